@@ -1,0 +1,39 @@
+/*
+ * pcl_texlet kernels: what a texlet is computed from.
+ */
+#pragma once
+
+#include <pcl_texlet/kernels/vec3.h>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace kernels
+{
+
+/** \brief The valid points of a texlet's pixel disc, with the depth noise of each, and the
+  * hexagonal ring used by normal averaging. Points are in the camera frame (z = depth along
+  * the optical axis, > 0); sigma is the depth SD in the same unit. Depth noise moves a point
+  * along its ray from the camera centre, i.e. p -> p (1 + dz / z).
+  */
+template <typename S>
+struct Neighbourhood
+{
+  const S *x = nullptr;
+  const S *y = nullptr;
+  const S *z = nullptr;
+  const S *sigma = nullptr; ///< may be null when no uncertainty is computed
+  int count = 0;
+
+  Vec3<S> ring[7];      ///< centre (0) and six hexagonal neighbours (1..6) in angular order
+  S ring_sigma[7];      ///< their depth SD
+  bool ring_valid[7];   ///< whether each has a finite point
+
+  PCL_TEXLET_HD Vec3<S>
+  point (int i) const { return {x[i], y[i], z[i]}; }
+};
+
+} // namespace kernels
+} // namespace texlet
+} // namespace pcl

@@ -1,0 +1,137 @@
+/*
+ * pcl_texlet kernels: closed-form eigen decomposition of a symmetric 3x3 matrix.
+ *
+ * The paper (Sect. 3.1) prefers this to SVD on a GPU because it is not iterative: the
+ * eigenvalues are the roots of the characteristic cubic (trigonometric form), the smallest
+ * eigenvector is the null vector of A - l0 I (a cross product of two of its rows), and the
+ * other two are the eigenvectors of the 2x2 problem in the plane orthogonal to it, which stays
+ * well defined when the two in-plane eigenvalues are (nearly) equal, as on a round planar patch.
+ */
+#pragma once
+
+#include <pcl_texlet/kernels/vec3.h>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace kernels
+{
+
+template <typename S> PCL_TEXLET_HD S
+machineEpsilon () { return sizeof (S) == sizeof (float) ? S (1.1920929e-07) : S (2.220446049250313e-16); }
+
+/** \brief Eigen decomposition, eigenvalues ascending, vectors orthonormal. */
+template <typename S>
+struct SymEigen3
+{
+  S values[3];
+  Vec3<S> vectors[3];
+};
+
+/** \brief A v for a packed symmetric matrix (xx xy xz yy yz zz). */
+template <typename S> PCL_TEXLET_HD Vec3<S>
+symMul (const S a[6], const Vec3<S> &v)
+{
+  return {a[0] * v.x + a[1] * v.y + a[2] * v.z, a[1] * v.x + a[3] * v.y + a[4] * v.z,
+          a[2] * v.x + a[4] * v.y + a[5] * v.z};
+}
+
+/** \brief Any unit vector orthogonal to unit vector \a n. */
+template <typename S> PCL_TEXLET_HD Vec3<S>
+anyOrthogonal (const Vec3<S> &n)
+{
+  const S ax = std::fabs (n.x), ay = std::fabs (n.y), az = std::fabs (n.z);
+  const Vec3<S> axis = (ax <= ay && ax <= az) ? make3<S> (1, 0, 0) : (ay <= az ? make3<S> (0, 1, 0) : make3<S> (0, 0, 1));
+  return normalized (cross (n, axis));
+}
+
+/** \brief Eigenvalues (ascending) of a packed symmetric 3x3 matrix, trigonometric form. */
+template <typename S> PCL_TEXLET_HD void
+symEigenvalues3 (const S a[6], S out[3])
+{
+  const S m = (a[0] + a[3] + a[5]) / S (3);
+  const S b00 = a[0] - m, b11 = a[3] - m, b22 = a[5] - m;
+  const S off = a[1] * a[1] + a[2] * a[2] + a[4] * a[4];
+  const S p = (b00 * b00 + b11 * b11 + b22 * b22 + S (2) * off) / S (6);
+  if (p <= S (0))
+  {
+    out[0] = out[1] = out[2] = m;
+    return;
+  }
+  const S q = (b00 * (b11 * b22 - a[4] * a[4]) - a[1] * (a[1] * b22 - a[4] * a[2]) +
+               a[2] * (a[1] * a[4] - b11 * a[2])) / S (2);
+  const S disc = p * p * p - q * q;
+  const S phi = std::atan2 (std::sqrt (disc > S (0) ? disc : S (0)), q) / S (3);
+  const S sp = std::sqrt (p), c = std::cos (phi), s = std::sin (phi);
+  const S sqrt3 = S (1.7320508075688772935);
+  out[0] = m - sp * (c + sqrt3 * s);
+  out[1] = m - sp * (c - sqrt3 * s);
+  out[2] = m + S (2) * sp * c;
+}
+
+/** \brief Null vector of (A - l I) from the best-conditioned cross product of its rows.
+  * \return false when (A - l I) has rank < 2, i.e. l is (nearly) a repeated eigenvalue.
+  */
+template <typename S> PCL_TEXLET_HD bool
+symNullVector (const S a[6], S l, Vec3<S> &v)
+{
+  const Vec3<S> r0 = {a[0] - l, a[1], a[2]}, r1 = {a[1], a[3] - l, a[4]}, r2 = {a[2], a[4], a[5] - l};
+  const Vec3<S> c01 = cross (r0, r1), c02 = cross (r0, r2), c12 = cross (r1, r2);
+  const S n01 = squaredNorm (c01), n02 = squaredNorm (c02), n12 = squaredNorm (c12);
+  Vec3<S> best = c01;
+  S best_n = n01;
+  if (n02 > best_n) { best = c02; best_n = n02; }
+  if (n12 > best_n) { best = c12; best_n = n12; }
+  // a is scaled to max |entry| = 1: a relative gap of ~sqrt(eps) is what can be resolved.
+  if (!(best_n > S (64) * machineEpsilon<S> ()))
+    return false;
+  v = (S (1) / std::sqrt (best_n)) * best;
+  return true;
+}
+
+/** \brief Eigen decomposition of a packed symmetric 3x3 matrix (xx xy xz yy yz zz).
+  * \return false for a zero or non-finite matrix.
+  */
+template <typename S> PCL_TEXLET_HD bool
+symmetricEigen3 (const S cov[6], SymEigen3<S> &out)
+{
+  S scale = S (0);
+  for (int i = 0; i < 6; ++i)
+    scale = std::fabs (cov[i]) > scale ? std::fabs (cov[i]) : scale;
+  if (!(scale > S (0)) || !std::isfinite (scale))
+    return false;
+  S a[6];
+  for (int i = 0; i < 6; ++i)
+    a[i] = cov[i] / scale;
+
+  S l[3];
+  symEigenvalues3 (a, l);
+  Vec3<S> e0;
+  if (!symNullVector (a, l[0], e0))
+  {
+    // l0 ~ l1: the smallest eigenvector is any vector orthogonal to the largest one.
+    Vec3<S> e2;
+    e0 = symNullVector (a, l[2], e2) ? anyOrthogonal (e2) : make3<S> (0, 0, 1);
+  }
+  const Vec3<S> u = anyOrthogonal (e0), w = cross (e0, u);
+  const Vec3<S> au = symMul (a, u), aw = symMul (a, w);
+  const S a11 = dot (u, au), a12 = dot (u, aw), a22 = dot (w, aw);
+  const S theta = S (0.5) * std::atan2 (S (2) * a12, a11 - a22);
+  const S ct = std::cos (theta), st = std::sin (theta);
+  const Vec3<S> e2 = ct * u + st * w;
+  const Vec3<S> e1 = (-st) * u + ct * w;
+
+  out.vectors[0] = e0;
+  out.vectors[1] = e1;
+  out.vectors[2] = e2;
+  // Rayleigh quotients: more accurate than the cubic's roots for the small eigenvalue.
+  out.values[0] = dot (e0, symMul (a, e0)) * scale;
+  out.values[1] = dot (e1, symMul (a, e1)) * scale;
+  out.values[2] = dot (e2, symMul (a, e2)) * scale;
+  return true;
+}
+
+} // namespace kernels
+} // namespace texlet
+} // namespace pcl

@@ -1,0 +1,237 @@
+/*
+ * pcl_texlet kernels: propagation of per-point depth noise into the covariance of the texlet's
+ * centre P (3x3, packed xx xy xz yy yz zz) and normal N (2x2, packed 11 12 22, in the tangent
+ * frame of tangent_frame.h, radians).
+ *
+ * Both methods keep the inlier set of the measured data fixed and perturb each inlier's depth
+ * along its ray with its own SD. Monte Carlo (paper, Sect. 3.2) re-fits the plane for every
+ * sample; the analytic method is the first-order expansion of the same fit: the mean for P,
+ * the eigenvector perturbation  de0 = -sum_j e_j (e_j' dC e0) / (l_j - l0)  for PCA and SVD,
+ * and central differences of Eq. 5 for averaging.
+ */
+#pragma once
+
+#include <pcl_texlet/kernels/config.h>
+#include <pcl_texlet/kernels/neighbourhood.h>
+#include <pcl_texlet/kernels/philox_rng.h>
+#include <pcl_texlet/kernels/plane_fit.h>
+#include <pcl_texlet/kernels/tangent_frame.h>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace kernels
+{
+
+/** \brief Fills a packed covariance with quiet NaN (no uncertainty available). */
+template <typename S> PCL_TEXLET_HD void
+fillNaN (S *c, int n)
+{
+  for (int i = 0; i < n; ++i)
+    c[i] = S (NAN);
+}
+
+/** \brief First-order covariances of a PCA or SVD fit of the inliers (mask) of \a nb. */
+template <typename S> PCL_TEXLET_HD void
+analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit,
+                         const Vec3<S> &t1, const Vec3<S> &t2, S cov_p[6], S cov_n[3])
+{
+  S n_in = 0;
+  for (int k = 0; k < nb.count; ++k)
+    n_in += mask[k] ? S (1) : S (0);
+  const Vec3<S> e0 = fit.N;
+  const S d1 = n_in * (fit.lambda[1] - fit.lambda[0]), d2 = n_in * (fit.lambda[2] - fit.lambda[0]);
+  // Where the tangents point in the eigenbasis: de0 = c1 e1 + c2 e2 -> (de0.t1, de0.t2).
+  const S e1t1 = dot (fit.e1, t1), e1t2 = dot (fit.e1, t2), e2t1 = dot (fit.e2, t1), e2t2 = dot (fit.e2, t2);
+  for (int i = 0; i < 6; ++i)
+    cov_p[i] = S (0);
+  for (int i = 0; i < 3; ++i)
+    cov_n[i] = S (0);
+  for (int k = 0; k < nb.count; ++k)
+  {
+    if (!mask[k])
+      continue;
+    const Vec3<S> p = nb.point (k);
+    const Vec3<S> r = (S (1) / p.z) * p; // dp = r dz
+    const Vec3<S> q = p - fit.P;
+    const S var = nb.sigma[k] * nb.sigma[k];
+    cov_p[0] += var * r.x * r.x; cov_p[1] += var * r.x * r.y; cov_p[2] += var * r.x * r.z;
+    cov_p[3] += var * r.y * r.y; cov_p[4] += var * r.y * r.z; cov_p[5] += var * r.z * r.z;
+    const S h = dot (q, e0), re0 = dot (r, e0);
+    const S c1 = -(dot (fit.e1, r) * h + dot (fit.e1, q) * re0) / d1;
+    const S c2 = -(dot (fit.e2, r) * h + dot (fit.e2, q) * re0) / d2;
+    const S j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
+    cov_n[0] += var * j1 * j1;
+    cov_n[1] += var * j1 * j2;
+    cov_n[2] += var * j2 * j2;
+  }
+  const S inv_n2 = S (1) / (n_in * n_in);
+  for (int i = 0; i < 6; ++i)
+    cov_p[i] *= inv_n2;
+}
+
+/** \brief First-order covariances of normal averaging (P is the centre point), by central
+  * differences of Eq. 5 in each used ring point's depth.
+  */
+template <typename S> PCL_TEXLET_HD void
+analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], const Vec3<S> &normal,
+                             const Vec3<S> &t1, const Vec3<S> &t2, S cov_p[6], S cov_n[3])
+{
+  const Vec3<S> c = nb.ring[0];
+  const Vec3<S> rc = (S (1) / c.z) * c;
+  const S vc = nb.ring_sigma[0] * nb.ring_sigma[0];
+  cov_p[0] = vc * rc.x * rc.x; cov_p[1] = vc * rc.x * rc.y; cov_p[2] = vc * rc.x * rc.z;
+  cov_p[3] = vc * rc.y * rc.y; cov_p[4] = vc * rc.y * rc.z; cov_p[5] = vc * rc.z * rc.z;
+  for (int i = 0; i < 3; ++i)
+    cov_n[i] = S (0);
+  Vec3<S> ring[7];
+  for (int i = 0; i < 7; ++i)
+    ring[i] = nb.ring[i];
+  for (int i = 0; i < 7; ++i)
+  {
+    if (!use[i])
+      continue;
+    const S h = S (1e-4) * nb.ring[i].z;
+    Vec3<S> np, nm;
+    ring[i] = (S (1) + h / nb.ring[i].z) * nb.ring[i];
+    const bool okp = averagingNormal (ring, use, np);
+    ring[i] = (S (1) - h / nb.ring[i].z) * nb.ring[i];
+    const bool okm = averagingNormal (ring, use, nm);
+    ring[i] = nb.ring[i];
+    if (!okp || !okm)
+      continue;
+    if (dot (np, normal) < S (0)) np = -np;
+    if (dot (nm, normal) < S (0)) nm = -nm;
+    const Vec3<S> dn = (S (0.5) / h) * (np - nm);
+    const S j1 = dot (dn, t1), j2 = dot (dn, t2), var = nb.ring_sigma[i] * nb.ring_sigma[i];
+    cov_n[0] += var * j1 * j1;
+    cov_n[1] += var * j1 * j2;
+    cov_n[2] += var * j2 * j2;
+  }
+}
+
+/** \brief Accumulates samples of (P - P0) and of the normal's tangent components. */
+template <typename S>
+struct SampleCovariance
+{
+  S sp[3], spp[6], sa[2], saa[3];
+  int n;
+
+  PCL_TEXLET_HD void
+  reset ()
+  {
+    for (int i = 0; i < 3; ++i) { sp[i] = S (0); saa[i] = S (0); }
+    for (int i = 0; i < 6; ++i) spp[i] = S (0);
+    sa[0] = sa[1] = S (0);
+    n = 0;
+  }
+
+  PCL_TEXLET_HD void
+  add (const Vec3<S> &dp, S a1, S a2)
+  {
+    sp[0] += dp.x; sp[1] += dp.y; sp[2] += dp.z;
+    spp[0] += dp.x * dp.x; spp[1] += dp.x * dp.y; spp[2] += dp.x * dp.z;
+    spp[3] += dp.y * dp.y; spp[4] += dp.y * dp.z; spp[5] += dp.z * dp.z;
+    sa[0] += a1; sa[1] += a2;
+    saa[0] += a1 * a1; saa[1] += a1 * a2; saa[2] += a2 * a2;
+    ++n;
+  }
+
+  /** \brief Unbiased (1/(n-1)) covariances; NaN with fewer than 2 samples. */
+  PCL_TEXLET_HD void
+  finish (S cov_p[6], S cov_n[3]) const
+  {
+    if (n < 2)
+    {
+      fillNaN (cov_p, 6);
+      fillNaN (cov_n, 3);
+      return;
+    }
+    const S inv = S (1) / S (n), inv1 = S (1) / S (n - 1);
+    for (int r = 0, k = 0; r < 3; ++r)
+      for (int c = r; c < 3; ++c, ++k)
+        cov_p[k] = (spp[k] - sp[r] * sp[c] * inv) * inv1;
+    cov_n[0] = (saa[0] - sa[0] * sa[0] * inv) * inv1;
+    cov_n[1] = (saa[1] - sa[0] * sa[1] * inv) * inv1;
+    cov_n[2] = (saa[2] - sa[1] * sa[1] * inv) * inv1;
+  }
+};
+
+/** \brief Monte Carlo covariances: \a samples re-fits of the inliers with depth noise drawn
+  * from Philox counters (seed, texlet, sample, point block).
+  * \param work scratch of 3 * nb.count values (used by the SVD fit only)
+  */
+template <typename S> PCL_TEXLET_HD void
+monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const bool ring_use[7],
+                      PlaneFitMethod method, int samples, std::uint32_t seed, std::uint32_t texlet,
+                      const Vec3<S> &P0, const Vec3<S> &N0, const Vec3<S> &t1, const Vec3<S> &t2,
+                      S *work, S cov_p[6], S cov_n[3])
+{
+  SampleCovariance<S> acc;
+  acc.reset ();
+  float g[4];
+  for (int s = 0; s < samples; ++s)
+  {
+    Vec3<S> P, N;
+    bool ok;
+    if (method == PlaneFitMethod::Averaging)
+    {
+      Vec3<S> ring[7];
+      for (int i = 0; i < 7; ++i)
+      {
+        if ((i & 3) == 0)
+          normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (i >> 2), g);
+        ring[i] = ring_use[i] ? (S (1) + S (g[i & 3]) * nb.ring_sigma[i] / nb.ring[i].z) * nb.ring[i] : nb.ring[i];
+      }
+      ok = averagingNormal (ring, ring_use, N);
+      P = ring[0];
+    }
+    else
+    {
+      PlaneMoments<S> m;
+      m.reset (P0);
+      for (int k = 0; k < nb.count; ++k)
+      {
+        if ((k & 3) == 0)
+          normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (k >> 2), g);
+        if (!mask[k])
+          continue;
+        const Vec3<S> p = (S (1) + S (g[k & 3]) * nb.sigma[k] / nb.z[k]) * nb.point (k);
+        if (method == PlaneFitMethod::SVD)
+        {
+          work[3 * m.n + 0] = p.x;
+          work[3 * m.n + 1] = p.y;
+          work[3 * m.n + 2] = p.z;
+        }
+        m.add (p);
+      }
+      PlaneFit<S> fit;
+      if (method == PlaneFitMethod::SVD)
+      {
+        const Vec3<S> mean = m.mean ();
+        for (int i = 0; i < m.n; ++i)
+        {
+          work[3 * i + 0] -= mean.x;
+          work[3 * i + 1] -= mean.y;
+          work[3 * i + 2] -= mean.z;
+        }
+        ok = fitPlaneSvd (work, m.n, mean, fit);
+      }
+      else
+        ok = fitPlanePca (m, fit);
+      P = fit.P;
+      N = fit.N;
+    }
+    if (!ok)
+      continue;
+    if (dot (N, N0) < S (0))
+      N = -N;
+    acc.add (P - P0, dot (N, t1), dot (N, t2));
+  }
+  acc.finish (cov_p, cov_n);
+}
+
+} // namespace kernels
+} // namespace texlet
+} // namespace pcl
