@@ -1,0 +1,407 @@
+/*
+ * pcl_texlet: implementation of TexletEstimation and computeTexlet.
+ */
+#pragma once
+
+#include <pcl_texlet/camera_estimation.h>
+#include <pcl_texlet/kernels/hex_grid.h>
+#include <pcl_texlet/kernels/pixel_disc.h>
+#include <pcl_texlet/kernels/texlet_kernel.h>
+#include <pcl_texlet/texlet_estimation.h>
+
+#include <pcl/common/point_tests.h>
+#include <pcl/exceptions.h>
+#include <pcl/type_traits.h>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace pcl
+{
+namespace texlet
+{
+namespace detail
+{
+
+/** \brief Depth SD in metres of a point at pixel (u, v) and depth z (metres). */
+inline double
+depthSigmaMetres (const NoiseModel &noise, const CameraModel &camera, int u, int v, double z)
+{
+  PixelContext ctx;
+  ctx.u = u;
+  ctx.v = v;
+  ctx.radius_px = camera.principalPointDistance (u, v);
+  ctx.depth_mm = z * 1000.0;
+  return noise.sigmaMm (ctx) * 1e-3;
+}
+
+/** \brief Gathers a texlet's neighbourhood from an organised cloud into reusable buffers and
+  * runs the kernel on it. One worker per thread: nothing is allocated per texlet.
+  */
+template <typename PointInT>
+class TexletWorker
+{
+public:
+  /** \param sigma_m per-pixel depth SD in metres, or null to evaluate the noise model here */
+  TexletWorker (const pcl::PointCloud<PointInT> &cloud, const TexletParameters &params, const CameraModel &camera,
+                const NoiseModel &noise, const double *sigma_m)
+    : cloud_ (cloud), params_ (params), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m)
+  {
+    const int n = kernels::pixelDiscSize (params.radius);
+    du_.resize (n);
+    dv_.resize (n);
+    kernels::pixelDiscOffsets (params.radius, du_.data (), dv_.data (), n);
+    x_.resize (n); y_.resize (n); z_.resize (n); s_.resize (n);
+    pixel_.resize (n);
+    mask_.resize (n);
+    work_.resize (3 * n);
+    settings_.ransac_iterations = params.ransac_iterations;
+    settings_.fit = params.fit;
+    settings_.uncertainty = params.uncertainty;
+    settings_.samples = params.samples;
+    settings_.seed = params.seed;
+    settings_.min_support = params.min_support;
+    settings_.viewpoint = {params.viewpoint[0], params.viewpoint[1], params.viewpoint[2]};
+  }
+
+  /** \brief Texlet at pixel \a centre into \a out; false (and NaN) where none could be made. */
+  template <typename PointOutT> bool
+  compute (pcl::index_t centre, PointOutT &out)
+  {
+    const int w = static_cast<int> (cloud_.width), h = static_cast<int> (cloud_.height);
+    const int cu = static_cast<int> (centre % w), cv = static_cast<int> (centre / w);
+    kernels::Neighbourhood<double> nb;
+    int count = 0;
+    double zsum = 0.0;
+    for (std::size_t o = 0; o < du_.size (); ++o)
+    {
+      const int u = cu + du_[o], v = cv + dv_[o];
+      if (u < 0 || v < 0 || u >= w || v >= h)
+        continue;
+      const PointInT &p = cloud_ (u, v);
+      if (!validPoint (p))
+        continue;
+      x_[count] = p.x; y_[count] = p.y; z_[count] = p.z;
+      pixel_[count] = v * w + u;
+      zsum += p.z;
+      ++count;
+    }
+    nb.x = x_.data (); nb.y = y_.data (); nb.z = z_.data ();
+    nb.count = count;
+    if (count == 0)
+      return fail (centre, out);
+
+    // Ring for normal averaging: the centre and its six hexagonal neighbours at `radius`.
+    for (int k = 0; k < 7; ++k)
+    {
+      int du = 0, dv = 0;
+      if (k > 0)
+        kernels::hexNeighbourOffset (k - 1, params_.radius, du, dv);
+      const int u = cu + du, v = cv + dv;
+      nb.ring_valid[k] = false;
+      nb.ring[k] = {0, 0, 0};
+      nb.ring_sigma[k] = 0;
+      if (u < 0 || v < 0 || u >= w || v >= h || !validPoint (cloud_ (u, v)))
+        continue;
+      const PointInT &p = cloud_ (u, v);
+      nb.ring[k] = {p.x, p.y, p.z};
+      nb.ring_valid[k] = true;
+      nb.ring_sigma[k] = sigmaAt (u, v, p.z);
+    }
+    if (params_.uncertainty != UncertaintyMethod::None)
+    {
+      for (int i = 0; i < count; ++i)
+        s_[i] = sigmaAt (pixel_[i] % w, pixel_[i] / w, z_[i]);
+      nb.sigma = s_.data ();
+    }
+    settings_.threshold = params_.ransac_threshold > 0.0
+                              ? params_.ransac_threshold
+                              : params_.threshold_sigmas * modelSigma (cu, cv, zsum / count);
+
+    kernels::TexletResult<double> r;
+    kernels::computeTexlet (nb, settings_, static_cast<std::uint32_t> (centre), mask_.data (), work_.data (), r);
+    if (!r.ok)
+      return fail (centre, out);
+
+    out.x = static_cast<float> (r.P.x); out.y = static_cast<float> (r.P.y); out.z = static_cast<float> (r.P.z);
+    out.normal_x = static_cast<float> (r.N.x); out.normal_y = static_cast<float> (r.N.y);
+    out.normal_z = static_cast<float> (r.N.z);
+    out.curvature = static_cast<float> (r.curvature);
+    out.radius = static_cast<float> (r.radius);
+    out.support = static_cast<std::uint32_t> (r.support);
+    setCovariances (r.cov_p, r.cov_n, out);
+    out.pixel_index = static_cast<std::uint32_t> (centre);
+    meanColour (count, out);
+    return true;
+  }
+
+private:
+  static bool
+  validPoint (const PointInT &p)
+  {
+    return std::isfinite (p.x) && std::isfinite (p.y) && std::isfinite (p.z) && p.z > 0.0f;
+  }
+
+  /** Depth SD in metres at pixel (u, v) and depth z (metres), from the per-pixel image when
+    * there is one. */
+  double
+  sigmaAt (int u, int v, double z) const
+  {
+    if (sigma_m_)
+    {
+      const double s = sigma_m_[static_cast<std::size_t> (v) * cloud_.width + u];
+      if (std::isfinite (s))
+        return s;
+    }
+    return modelSigma (u, v, z);
+  }
+
+  /** Depth SD in metres from the noise model at pixel (u, v) and depth z (metres). */
+  double
+  modelSigma (int u, int v, double z) const
+  {
+    return depthSigmaMetres (noise_, camera_, u, v, z);
+  }
+
+  template <typename PointOutT> static void
+  setCovariances (const double p[6], const double n[3], PointOutT &out)
+  {
+    out.cov_p_xx = static_cast<float> (p[0]); out.cov_p_xy = static_cast<float> (p[1]);
+    out.cov_p_xz = static_cast<float> (p[2]); out.cov_p_yy = static_cast<float> (p[3]);
+    out.cov_p_yz = static_cast<float> (p[4]); out.cov_p_zz = static_cast<float> (p[5]);
+    out.cov_n_11 = static_cast<float> (n[0]); out.cov_n_12 = static_cast<float> (n[1]);
+    out.cov_n_22 = static_cast<float> (n[2]);
+  }
+
+  template <typename PointOutT> void
+  meanColour (int count, PointOutT &out) const
+  {
+    if constexpr (pcl::traits::has_color_v<PointInT>)
+    {
+      unsigned r = 0, g = 0, b = 0, n = 0;
+      for (int i = 0; i < count; ++i)
+        if (mask_[i])
+        {
+          const PointInT &p = cloud_[pixel_[i]];
+          r += p.r; g += p.g; b += p.b; ++n;
+        }
+      out.r = static_cast<std::uint8_t> ((r + n / 2) / n);
+      out.g = static_cast<std::uint8_t> ((g + n / 2) / n);
+      out.b = static_cast<std::uint8_t> ((b + n / 2) / n);
+      out.a = 255;
+    }
+    else
+      out.rgba = 0;
+  }
+
+  template <typename PointOutT> static bool
+  fail (pcl::index_t centre, PointOutT &out)
+  {
+    const float nan = std::numeric_limits<float>::quiet_NaN ();
+    out.x = out.y = out.z = nan;
+    out.normal_x = out.normal_y = out.normal_z = nan;
+    out.curvature = out.radius = nan;
+    out.rgba = 0;
+    out.support = 0;
+    const double cn[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
+    setCovariances (cn, cn, out);
+    out.pixel_index = static_cast<std::uint32_t> (centre);
+    return false;
+  }
+
+  const pcl::PointCloud<PointInT> &cloud_;
+  const TexletParameters &params_;
+  const CameraModel &camera_;
+  const NoiseModel &noise_;
+  const double *sigma_m_;
+  kernels::TexletSettings<double> settings_;
+  std::vector<int> du_, dv_;
+  std::vector<double> x_, y_, z_, s_, work_;
+  std::vector<int> pixel_;
+  std::vector<unsigned char> mask_;
+};
+
+inline void
+requireOrganised (std::uint32_t width, std::uint32_t height, std::size_t size, const char *who)
+{
+  if (height <= 1 || static_cast<std::size_t> (width) * height != size)
+  {
+    std::ostringstream msg;
+    msg << who << ": the input cloud is not organised (width " << width << ", height " << height << ", " << size
+        << " points); texlets need the pixel grid of a depth image";
+    throw pcl::UnorganizedPointCloudException (msg.str ());
+  }
+}
+
+} // namespace detail
+} // namespace texlet
+
+template <typename PointInT, typename PointOutT> bool
+computeTexlet (const pcl::PointCloud<PointInT> &cloud, pcl::index_t centre, const texlet::TexletParameters &params,
+               const texlet::CameraModel &camera, const texlet::NoiseModel &noise, PointOutT &texlet)
+{
+  texlet::validate (params);
+  texlet::detail::requireOrganised (cloud.width, cloud.height, cloud.size (), "pcl::computeTexlet");
+  if (centre < 0 || static_cast<std::size_t> (centre) >= cloud.size ())
+  {
+    std::ostringstream msg;
+    msg << "pcl::computeTexlet: centre index " << centre << " is outside the cloud (" << cloud.size () << " points)";
+    throw pcl::BadArgumentException (msg.str ());
+  }
+  texlet::detail::TexletWorker<PointInT> worker (cloud, params, camera, noise, nullptr);
+  return worker.compute (centre, texlet);
+}
+
+#define PCL_TEXLET_SETTER(field, value) \
+  do { texlet::TexletParameters p = params_; p.field = value; texlet::validate (p); params_ = p; } while (0)
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setSpacing (int pixels) { PCL_TEXLET_SETTER (spacing, pixels); }
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setRadius (int pixels) { PCL_TEXLET_SETTER (radius, pixels); }
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setRansacIterations (int iterations)
+{
+  PCL_TEXLET_SETTER (ransac_iterations, iterations);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setRansacThreshold (double metres)
+{
+  PCL_TEXLET_SETTER (ransac_threshold, metres);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setRansacThresholdSigmas (double sigmas)
+{
+  PCL_TEXLET_SETTER (threshold_sigmas, sigmas);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setPlaneFitMethod (texlet::PlaneFitMethod method)
+{
+  PCL_TEXLET_SETTER (fit, method);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setUncertaintyMethod (texlet::UncertaintyMethod method)
+{
+  PCL_TEXLET_SETTER (uncertainty, method);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setMonteCarloSamples (int samples)
+{
+  PCL_TEXLET_SETTER (samples, samples);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setMinSupport (int points) { PCL_TEXLET_SETTER (min_support, points); }
+
+#undef PCL_TEXLET_SETTER
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setViewPoint (float vpx, float vpy, float vpz)
+{
+  texlet::TexletParameters p = params_;
+  p.viewpoint[0] = vpx;
+  p.viewpoint[1] = vpy;
+  p.viewpoint[2] = vpz;
+  texlet::validate (p);
+  params_ = p;
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setParameters (const texlet::TexletParameters &params)
+{
+  texlet::validate (params);
+  params_ = params;
+}
+
+template <typename PointInT, typename PointOutT> bool
+TexletEstimation<PointInT, PointOutT>::initCompute ()
+{
+  // Feature::initCompute would set up a metric search; texlets use the pixel grid instead.
+  if (!input_)
+    throw pcl::InitFailedException ("pcl::TexletEstimation: no input cloud was given (setInputCloud)");
+  texlet::detail::requireOrganised (input_->width, input_->height, input_->size (), "pcl::TexletEstimation");
+  if (!indices_ || this->fake_indices_)
+  {
+    const texlet::kernels::HexGrid grid = texlet::kernels::makeHexGrid (input_->width, input_->height, params_.spacing);
+    auto centres = std::make_shared<pcl::Indices> (grid.size ());
+    for (int i = 0; i < grid.size (); ++i)
+    {
+      int u, v;
+      texlet::kernels::hexCentre (grid, i, u, v);
+      (*centres)[i] = static_cast<pcl::index_t> (v) * input_->width + u;
+    }
+    indices_ = centres;
+    this->fake_indices_ = true;
+  }
+  else
+  {
+    for (const pcl::index_t i : *indices_)
+      if (i < 0 || static_cast<std::size_t> (i) >= input_->size ())
+      {
+        std::ostringstream msg;
+        msg << "pcl::TexletEstimation: index " << i << " is outside the input cloud (" << input_->size () << " points)";
+        throw pcl::BadArgumentException (msg.str ());
+      }
+  }
+  return true;
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
+{
+  const pcl::PointCloud<PointInT> &cloud = *input_;
+  texlet::CameraModel::ConstPtr camera = camera_;
+  if (!camera)
+    camera = std::make_shared<texlet::PinholeCamera> (texlet::estimatePinholeCamera (cloud));
+
+#ifdef _OPENMP
+  const int threads = threads_ == 0 ? omp_get_num_procs () : static_cast<int> (threads_);
+#endif
+
+  // Per-pixel depth SD, once per frame: pixels are shared by the overlapping discs.
+  sigma_image_.assign (cloud.size (), std::numeric_limits<double>::quiet_NaN ());
+  const int w = static_cast<int> (cloud.width), h = static_cast<int> (cloud.height);
+  std::size_t valid = 0;
+  const bool need_sigma = params_.uncertainty != texlet::UncertaintyMethod::None;
+#pragma omp parallel for num_threads(threads) reduction(+ : valid) schedule(static)
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u)
+    {
+      const PointInT &p = cloud (u, v);
+      if (!std::isfinite (p.x) || !std::isfinite (p.y) || !std::isfinite (p.z) || !(p.z > 0.0f))
+        continue;
+      ++valid;
+      if (!need_sigma)
+        continue;
+      sigma_image_[static_cast<std::size_t> (v) * w + u] = texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z);
+    }
+  if (valid == 0)
+    throw pcl::ComputeFailedException ("pcl::TexletEstimation: the input cloud has no valid point (all depth is "
+                                       "invalid: NaN, infinite or not in front of the camera)");
+
+  const auto n = static_cast<std::ptrdiff_t> (indices_->size ());
+  std::size_t made = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : made)
+  {
+    texlet::detail::TexletWorker<PointInT> worker (cloud, params_, *camera, noise_,
+                                                   need_sigma ? sigma_image_.data () : nullptr);
+#pragma omp for schedule(dynamic, 64)
+    for (std::ptrdiff_t i = 0; i < n; ++i)
+      made += worker.compute ((*indices_)[i], output[i]) ? 1 : 0;
+  }
+  output.is_dense = made == indices_->size ();
+}
+
+} // namespace pcl

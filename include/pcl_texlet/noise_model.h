@@ -1,0 +1,155 @@
+/*
+ * pcl_texlet: the depth noise model, a sum of composable terms.
+ *
+ * Each term contributes a variance (and optionally a bias) of the depth in millimetres at a
+ * pixel; the model's sigma is the root of their sum. The default model is the paper's
+ * polynomial f(r, d) (Eq. 4). Terms expose their parameters by name so that the model lab can
+ * fit them; one NoiseModel object is passed down from the sensor model to the texlets.
+ */
+#pragma once
+
+#include <pcl_texlet/kernels/noise_terms.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pcl
+{
+namespace texlet
+{
+
+/** \brief Where a depth sample was taken: pixel, distance from the principal point, depth. */
+struct PixelContext
+{
+  double u = 0.0;         ///< column, pixels
+  double v = 0.0;         ///< row, pixels
+  double radius_px = 0.0; ///< distance from the principal point, pixels
+  double depth_mm = 0.0;  ///< measured depth, millimetres
+};
+
+/** \brief One physical contribution to the depth noise. */
+class NoiseTerm
+{
+public:
+  using Ptr = std::shared_ptr<NoiseTerm>;
+  using ConstPtr = std::shared_ptr<const NoiseTerm>;
+
+  virtual ~NoiseTerm () = default;
+
+  /** \brief Name of the effect (DESIGN.md section 5 vocabulary where one applies). */
+  virtual std::string
+  name () const = 0;
+
+  /** \brief Variance contribution, mm^2 (>= 0). */
+  virtual double
+  variance (const PixelContext &ctx) const = 0;
+
+  /** \brief Bias contribution (measured minus true depth), mm. */
+  virtual double
+  bias (const PixelContext &) const { return 0.0; }
+
+  virtual std::vector<std::string>
+  parameterNames () const = 0;
+
+  virtual std::vector<double>
+  parameters () const = 0;
+
+  /** \throws pcl::BadArgumentException on a wrong count or a non-finite value. */
+  virtual void
+  setParameters (const std::vector<double> &values) = 0;
+
+  virtual Ptr
+  clone () const = 0;
+};
+
+/** \brief Sigma as a second-order polynomial in r (px) and d (mm): the paper's Eq. 4.
+  * Contributes max(f, 0)^2 as variance.
+  */
+class PolynomialSigmaTerm : public NoiseTerm
+{
+public:
+  explicit PolynomialSigmaTerm (const kernels::PolynomialCoefficients &c = kernels::paperPolynomial ())
+    : c_ (c) {}
+
+  std::string
+  name () const override { return "polynomial"; }
+
+  double
+  sigmaMm (const PixelContext &ctx) const;
+
+  double
+  variance (const PixelContext &ctx) const override;
+
+  std::vector<std::string>
+  parameterNames () const override;
+
+  std::vector<double>
+  parameters () const override;
+
+  void
+  setParameters (const std::vector<double> &values) override;
+
+  NoiseTerm::Ptr
+  clone () const override { return std::make_shared<PolynomialSigmaTerm> (*this); }
+
+  const kernels::PolynomialCoefficients &
+  coefficients () const { return c_; }
+
+private:
+  kernels::PolynomialCoefficients c_;
+};
+
+/** \brief Depth noise model: sigma = sqrt(sum of the terms' variances), never below a floor. */
+class NoiseModel
+{
+public:
+  /** \brief An empty model (sigma is the floor everywhere until terms are added). */
+  NoiseModel () = default;
+  NoiseModel (const NoiseModel &other);
+  NoiseModel &
+  operator= (const NoiseModel &other);
+  NoiseModel (NoiseModel &&) = default;
+  NoiseModel &
+  operator= (NoiseModel &&) = default;
+
+  /** \brief The paper's model: one PolynomialSigmaTerm with the coefficients of Eq. 4. */
+  static NoiseModel
+  paper ();
+
+  /** \brief Adds a term (the model keeps its own copy). */
+  NoiseModel &
+  add (const NoiseTerm &term);
+
+  const std::vector<NoiseTerm::Ptr> &
+  terms () const { return terms_; }
+
+  /** \brief The term named \a name, or null. */
+  NoiseTerm::Ptr
+  find (const std::string &name) const;
+
+  /** \brief Depth SD in mm at \a ctx; NaN if the depth is not positive and finite. */
+  double
+  sigmaMm (const PixelContext &ctx) const;
+
+  /** \brief Sum of the terms' biases in mm at \a ctx. */
+  double
+  biasMm (const PixelContext &ctx) const;
+
+  /** \brief Smallest sigma the model reports (default 0.1 mm): keeps every point's weight
+    * finite where a fitted polynomial dips toward zero outside its range.
+    * \throws pcl::BadArgumentException unless positive and finite.
+    */
+  void
+  setMinSigmaMm (double sigma);
+
+  double
+  minSigmaMm () const { return min_sigma_mm_; }
+
+private:
+  std::vector<NoiseTerm::Ptr> terms_;
+  double min_sigma_mm_ = 0.1;
+};
+
+} // namespace texlet
+} // namespace pcl

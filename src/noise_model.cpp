@@ -1,0 +1,128 @@
+#include <pcl_texlet/noise_model.h>
+
+#include <pcl/exceptions.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace pcl
+{
+namespace texlet
+{
+
+double
+PolynomialSigmaTerm::sigmaMm (const PixelContext &ctx) const
+{
+  return kernels::evaluatePolynomial (c_, ctx.radius_px, ctx.depth_mm);
+}
+
+double
+PolynomialSigmaTerm::variance (const PixelContext &ctx) const
+{
+  const double s = sigmaMm (ctx);
+  return s > 0.0 ? s * s : 0.0;
+}
+
+std::vector<std::string>
+PolynomialSigmaTerm::parameterNames () const
+{
+  return {"p00", "p10", "p01", "p20", "p11", "p02"};
+}
+
+std::vector<double>
+PolynomialSigmaTerm::parameters () const
+{
+  return {c_.p00, c_.p10, c_.p01, c_.p20, c_.p11, c_.p02};
+}
+
+void
+PolynomialSigmaTerm::setParameters (const std::vector<double> &values)
+{
+  if (values.size () != 6)
+  {
+    std::ostringstream msg;
+    msg << "noise term 'polynomial': expected 6 parameters (p00 p10 p01 p20 p11 p02), got " << values.size ();
+    throw pcl::BadArgumentException (msg.str ());
+  }
+  for (std::size_t i = 0; i < values.size (); ++i)
+    if (!std::isfinite (values[i]))
+      throw pcl::BadArgumentException ("noise term 'polynomial': parameter " + parameterNames ()[i] + " is not finite");
+  c_ = {values[0], values[1], values[2], values[3], values[4], values[5]};
+}
+
+NoiseModel::NoiseModel (const NoiseModel &other) : min_sigma_mm_ (other.min_sigma_mm_)
+{
+  for (const auto &t : other.terms_)
+    terms_.push_back (t->clone ());
+}
+
+NoiseModel &
+NoiseModel::operator= (const NoiseModel &other)
+{
+  if (this != &other)
+  {
+    NoiseModel copy (other);
+    *this = std::move (copy);
+  }
+  return *this;
+}
+
+NoiseModel
+NoiseModel::paper ()
+{
+  NoiseModel m;
+  m.add (PolynomialSigmaTerm ());
+  return m;
+}
+
+NoiseModel &
+NoiseModel::add (const NoiseTerm &term)
+{
+  terms_.push_back (term.clone ());
+  return *this;
+}
+
+NoiseTerm::Ptr
+NoiseModel::find (const std::string &name) const
+{
+  for (const auto &t : terms_)
+    if (t->name () == name)
+      return t;
+  return nullptr;
+}
+
+double
+NoiseModel::sigmaMm (const PixelContext &ctx) const
+{
+  if (!(ctx.depth_mm > 0.0) || !std::isfinite (ctx.depth_mm))
+    return std::nan ("");
+  double var = 0.0;
+  for (const auto &t : terms_)
+    var += t->variance (ctx);
+  const double s = std::sqrt (var);
+  return s > min_sigma_mm_ ? s : min_sigma_mm_;
+}
+
+double
+NoiseModel::biasMm (const PixelContext &ctx) const
+{
+  double b = 0.0;
+  for (const auto &t : terms_)
+    b += t->bias (ctx);
+  return b;
+}
+
+void
+NoiseModel::setMinSigmaMm (double sigma)
+{
+  if (!(sigma > 0.0) || !std::isfinite (sigma))
+  {
+    std::ostringstream msg;
+    msg << "NoiseModel::setMinSigmaMm: the sigma floor must be positive and finite (got " << sigma << ")";
+    throw pcl::BadArgumentException (msg.str ());
+  }
+  min_sigma_mm_ = sigma;
+}
+
+} // namespace texlet
+} // namespace pcl

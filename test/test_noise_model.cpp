@@ -1,0 +1,90 @@
+/*
+ * The noise model: the paper's polynomial, composition of terms, copies, bad parameters.
+ */
+#include <pcl_texlet/noise_model.h>
+
+#include <pcl/exceptions.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace pcl::texlet;
+
+namespace
+{
+PixelContext
+at (double r, double d)
+{
+  PixelContext c;
+  c.radius_px = r;
+  c.depth_mm = d;
+  return c;
+}
+
+/** A constant extra SD with a constant bias: the shape of a later physical effect. */
+class ConstantTerm : public NoiseTerm
+{
+public:
+  explicit ConstantTerm (double sigma, double bias = 0) : s_ (sigma), b_ (bias) {}
+  std::string name () const override { return "constant"; }
+  double variance (const PixelContext &) const override { return s_ * s_; }
+  double bias (const PixelContext &) const override { return b_; }
+  std::vector<std::string> parameterNames () const override { return {"sigma", "bias"}; }
+  std::vector<double> parameters () const override { return {s_, b_}; }
+  void setParameters (const std::vector<double> &v) override { s_ = v.at (0); b_ = v.at (1); }
+  NoiseTerm::Ptr clone () const override { return std::make_shared<ConstantTerm> (*this); }
+
+private:
+  double s_, b_;
+};
+} // namespace
+
+TEST (NoiseModel, PaperPolynomialValues)
+{
+  const NoiseModel m = NoiseModel::paper ();
+  EXPECT_NEAR (m.sigmaMm (at (0, 1000)), 0.843, 1e-12);
+  EXPECT_NEAR (m.sigmaMm (at (100, 1500)), 0.97445, 1e-12);
+  // 1750 mm, 300 px: 2.344 - 3.606 - 4.7845 + 1.6362 + 3.4209 + 3.7760625
+  EXPECT_NEAR (m.sigmaMm (at (300, 1750)), 2.7866625, 1e-9);
+  EXPECT_EQ (m.biasMm (at (0, 1000)), 0.0);
+  ASSERT_EQ (m.terms ().size (), 1u);
+  EXPECT_EQ (m.terms ()[0]->name (), "polynomial");
+  EXPECT_EQ (m.terms ()[0]->parameters ()[0], 2.344);
+}
+
+TEST (NoiseModel, TermsAddInQuadratureAndBiasesAdd)
+{
+  NoiseModel m = NoiseModel::paper ();
+  m.add (ConstantTerm (0.5, 0.25)).add (ConstantTerm (0.2, -0.05));
+  const double base = 0.843;
+  EXPECT_NEAR (m.sigmaMm (at (0, 1000)), std::sqrt (base * base + 0.25 + 0.04), 1e-12);
+  EXPECT_NEAR (m.biasMm (at (0, 1000)), 0.2, 1e-15);
+  ASSERT_NE (m.find ("constant"), nullptr);
+  EXPECT_EQ (m.find ("incidence_angle"), nullptr);
+}
+
+TEST (NoiseModel, CopiesAreIndependent)
+{
+  NoiseModel a = NoiseModel::paper ();
+  NoiseModel b = a;
+  b.terms ()[0]->setParameters ({1, 0, 0, 0, 0, 0});
+  EXPECT_NEAR (a.sigmaMm (at (0, 1000)), 0.843, 1e-12);
+  EXPECT_NEAR (b.sigmaMm (at (0, 1000)), 1.0, 1e-12);
+}
+
+TEST (NoiseModel, FloorAndInvalidDepth)
+{
+  NoiseModel m;
+  m.add (PolynomialSigmaTerm ({-1, 0, 0, 0, 0, 0})); // negative: contributes nothing
+  EXPECT_EQ (m.sigmaMm (at (0, 1000)), 0.1);
+  m.setMinSigmaMm (0.3);
+  EXPECT_EQ (m.sigmaMm (at (0, 1000)), 0.3);
+  EXPECT_TRUE (std::isnan (m.sigmaMm (at (0, 0))));
+  EXPECT_TRUE (std::isnan (m.sigmaMm (at (0, -5))));
+  EXPECT_THROW (m.setMinSigmaMm (0), pcl::BadArgumentException);
+  EXPECT_THROW (m.setMinSigmaMm (-1), pcl::BadArgumentException);
+  PolynomialSigmaTerm t;
+  EXPECT_THROW (t.setParameters ({1, 2, 3}), pcl::BadArgumentException);
+  EXPECT_THROW (t.setParameters ({1, 2, 3, 4, 5, std::nan ("")}), pcl::BadArgumentException);
+}

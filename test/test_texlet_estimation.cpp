@@ -1,0 +1,437 @@
+/*
+ * TexletEstimation on rendered scenes with known normals: fits against each other and the
+ * truth, RANSAC at depth steps, determinism, colour, and bad input.
+ */
+#include "support/synthetic_scene.h"
+
+#include <pcl_texlet/camera_estimation.h>
+#include <pcl_texlet/kernels/hex_grid.h>
+#include <pcl_texlet/texlet_estimation.h>
+
+#include <pcl/common/io.h>
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+using namespace pcl_texlet_test;
+using pcl::texlet::PlaneFitMethod;
+using pcl::texlet::UncertaintyMethod;
+
+namespace
+{
+
+Eigen::Vector3d
+normalOf (const pcl::Texlet &t) { return {t.normal_x, t.normal_y, t.normal_z}; }
+
+Eigen::Vector3d
+centreOf (const pcl::Texlet &t) { return {t.x, t.y, t.z}; }
+
+pcl::PointCloud<pcl::Texlet>
+extract (const pcl::PointCloud<pcl::PointXYZ> &cloud, const CameraSpec &cam, PlaneFitMethod fit,
+         UncertaintyMethod unc, const pcl::texlet::NoiseModel &noise = pcl::texlet::NoiseModel::paper (),
+         int spacing = 6, unsigned threads = 1, std::uint32_t seed = 1)
+{
+  pcl::TexletEstimation<pcl::PointXYZ> est;
+  est.setInputCloud (cloud.makeShared ());
+  est.setCameraModel (std::make_shared<pcl::texlet::PinholeCamera> (cam.pinhole ()));
+  est.setNoiseModel (noise);
+  est.setPlaneFitMethod (fit);
+  est.setUncertaintyMethod (unc);
+  est.setSpacing (spacing);
+  est.setNumberOfThreads (threads);
+  est.setSeed (seed);
+  pcl::PointCloud<pcl::Texlet> out;
+  est.compute (out);
+  return out;
+}
+
+Scene
+tiltedPlane (double tilt_x_deg, double tilt_y_deg, double distance)
+{
+  const double ax = tilt_x_deg * M_PI / 180, ay = tilt_y_deg * M_PI / 180;
+  const Eigen::Vector3d n = (Eigen::AngleAxisd (ax, Eigen::Vector3d::UnitX ()) *
+                             Eigen::AngleAxisd (ay, Eigen::Vector3d::UnitY ()) * Eigen::Vector3d (0, 0, -1));
+  Scene s;
+  s.add<PlaneSurface> (n, Eigen::Vector3d (0, 0, distance));
+  return s;
+}
+
+Scene
+sphereScene ()
+{
+  Scene s;
+  s.add<SphereSurface> (Eigen::Vector3d (0, 0, 1.3), 0.45);
+  return s;
+}
+
+Scene
+boxScene ()
+{
+  // A box on a wall behind it: faces at three orientations plus depth edges.
+  Scene s;
+  s.add<BoxSurface> (Eigen::Vector3d (-0.12, -0.10, 0.9), Eigen::Vector3d (0.18, 0.14, 1.2));
+  s.add<PlaneSurface> (Eigen::Vector3d (0.1, 0.2, -1), Eigen::Vector3d (0, 0, 1.5));
+  return s;
+}
+
+/** True normal at the surface point under a texlet's centre pixel. */
+Eigen::Vector3d
+trueNormal (const Render &r, const pcl::Texlet &t) { return r.normals[t.pixel_index]; }
+
+} // namespace
+
+TEST (TexletEstimation, OneTexletPerHexCentreWithPixelIndex)
+{
+  const CameraSpec cam;
+  const Render r = render (tiltedPlane (10, 20, 1.0), cam, nullptr, 0);
+  const auto out = extract (r.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::None);
+  const auto grid = pcl::texlet::kernels::makeHexGrid (cam.width, cam.height, 6);
+  ASSERT_EQ (static_cast<int> (out.size ()), grid.size ());
+  EXPECT_EQ (out.height, 1u);
+  for (int i = 0; i < grid.size (); ++i)
+  {
+    int u, v;
+    pcl::texlet::kernels::hexCentre (grid, i, u, v);
+    EXPECT_EQ (out[i].pixel_index, static_cast<std::uint32_t> (v * cam.width + u));
+  }
+  EXPECT_TRUE (out.is_dense);
+}
+
+TEST (TexletEstimation, PcaMatchesSvdOnPlanesSpheresAndBoxes)
+{
+  const CameraSpec cam;
+  const auto noise = pcl::texlet::NoiseModel::paper ();
+  int compared = 0;
+  for (const Scene &scene : {tiltedPlane (0, 0, 0.9), tiltedPlane (25, -30, 1.4), sphereScene (), boxScene ()})
+  {
+    const Render r = render (scene, cam, &noise, 11);
+    const auto pca = extract (r.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::None);
+    const auto svd = extract (r.cloud, cam, PlaneFitMethod::SVD, UncertaintyMethod::None);
+    ASSERT_EQ (pca.size (), svd.size ());
+    for (std::size_t i = 0; i < pca.size (); ++i)
+    {
+      ASSERT_EQ (std::isfinite (pca[i].x), std::isfinite (svd[i].x));
+      if (!std::isfinite (pca[i].x))
+        continue;
+      EXPECT_LT (axisAngle (normalOf (pca[i]), normalOf (svd[i])), 1e-3);
+      EXPECT_EQ (pca[i].support, svd[i].support); // same RANSAC draws, same inliers
+      ++compared;
+    }
+  }
+  EXPECT_GT (compared, 1000);
+}
+
+TEST (TexletEstimation, PlaneNormalsMatchTruthWithinTheirPredictedNoise)
+{
+  // The angular error to the true normal should be as large as Sigma_N says, no more:
+  // RMS error / RMS predicted SD near 1.
+  const CameraSpec cam;
+  const auto noise = pcl::texlet::NoiseModel::paper ();
+  for (auto [tx, ty, d] : {std::tuple<double, double, double>{0, 0, 0.8}, {20, 0, 1.2}, {-15, 30, 1.6}})
+  {
+    double err2 = 0, pred2 = 0;
+    int n = 0;
+    for (std::uint32_t copy = 0; copy < 5; ++copy)
+    {
+      const Render r = render (tiltedPlane (tx, ty, d), cam, &noise, 100 + copy);
+      const auto out = extract (r.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::Analytic);
+      for (const auto &t : out)
+      {
+        if (!std::isfinite (t.x))
+          continue;
+        err2 += std::pow (axisAngle (normalOf (t), trueNormal (r, t)), 2);
+        pred2 += t.cov_n_11 + t.cov_n_22;
+        ++n;
+      }
+    }
+    ASSERT_GT (n, 1000);
+    const double ratio = std::sqrt (err2 / pred2);
+    EXPECT_GT (ratio, 0.85) << "tilt " << tx << "," << ty << " at " << d << " m";
+    EXPECT_LT (ratio, 1.15) << "tilt " << tx << "," << ty << " at " << d << " m";
+    EXPECT_LT (std::sqrt (err2 / n), 0.1); // and the errors are small: a few degrees at most
+  }
+}
+
+TEST (TexletEstimation, SphereAndBoxNormalsMatchTruth)
+{
+  const CameraSpec cam;
+  const auto noise = pcl::texlet::NoiseModel::paper ();
+  {
+    const Render r = render (sphereScene (), cam, &noise, 5);
+    const auto out = extract (r.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::Analytic);
+    const Eigen::Vector3d c (0, 0, 1.3);
+    int n = 0, within = 0;
+    for (const auto &t : out)
+    {
+      // Patches at the limb (centre off the sphere, or seen at grazing incidence) carry a
+      // curvature bias larger than the noise: this check is about the rest.
+      const Eigen::Vector3d &n_pixel = r.normals[t.pixel_index];
+      if (!std::isfinite (t.x) || n_pixel.isZero () || -n_pixel.dot (centreOf (t).normalized ()) < 0.5)
+        continue;
+      // Truth at the patch centre: the sphere's radial direction through P.
+      const double err = axisAngle (normalOf (t), (centreOf (t) - c).normalized ());
+      const double sd = std::sqrt (t.cov_n_11 + t.cov_n_22);
+      within += err < 3 * sd + 0.005 ? 1 : 0; // 0.005 rad: the patch's own curvature bias
+      ++n;
+    }
+    ASSERT_GT (n, 150);
+    EXPECT_GT (within, 0.97 * n) << within << " of " << n;
+  }
+  {
+    const Render r = render (boxScene (), cam, &noise, 6);
+    const auto out = extract (r.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::Analytic);
+    int n = 0, within = 0;
+    for (const auto &t : out)
+    {
+      if (!std::isfinite (t.x))
+        continue;
+      const double err = axisAngle (normalOf (t), trueNormal (r, t));
+      within += err < 3 * std::sqrt (t.cov_n_11 + t.cov_n_22) ? 1 : 0;
+      ++n;
+    }
+    ASSERT_GT (n, 300);
+    // Texlets straddling a fold of the box may fit either face; nearly all others match.
+    EXPECT_GT (within, 0.9 * n);
+  }
+}
+
+TEST (TexletEstimation, AveragingIsWorseThanPcaAtEveryNoiseLevel)
+{
+  // The ordering of the paper's Fig. 8: normal averaging is the most noise-sensitive fit.
+  const CameraSpec cam;
+  double last_pca = 0, last_avg = 0;
+  for (double factor : {0.5, 1.0, 2.0, 4.0})
+  {
+    const auto noise = scaledPaperNoise (factor);
+    double pca_err = 0, avg_err = 0;
+    int n = 0;
+    for (std::uint32_t copy = 0; copy < 3; ++copy)
+    {
+      const Render r = render (tiltedPlane (15, 10, 1.0), cam, &noise, 300 + copy);
+      const auto pca = extract (r.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::None, noise);
+      const auto avg = extract (r.cloud, cam, PlaneFitMethod::Averaging, UncertaintyMethod::None, noise);
+      for (std::size_t i = 0; i < pca.size (); ++i)
+        if (std::isfinite (pca[i].x) && std::isfinite (avg[i].x))
+        {
+          pca_err += axisAngle (normalOf (pca[i]), trueNormal (r, pca[i]));
+          avg_err += axisAngle (normalOf (avg[i]), trueNormal (r, avg[i]));
+          ++n;
+        }
+    }
+    ASSERT_GT (n, 500);
+    pca_err /= n;
+    avg_err /= n;
+    EXPECT_GT (avg_err, 1.5 * pca_err) << "noise x" << factor;
+    EXPECT_GT (pca_err, last_pca);
+    EXPECT_GT (avg_err, last_avg);
+    last_pca = pca_err;
+    last_avg = avg_err;
+  }
+}
+
+TEST (TexletEstimation, RansacKeepsTheNormalOfItsOwnSurfaceAtADepthStep)
+{
+  // Left of column 80: a wall tilted 30 degrees at ~1 m; right of it: a frontal wall 15 cm behind.
+  const CameraSpec cam;
+  Scene s;
+  auto left = std::make_shared<PlaneSurface> (Eigen::Vector3d (std::sin (0.5236), 0, -std::cos (0.5236)),
+                                              Eigen::Vector3d (0, 0, 1.0));
+  left->side = Eigen::Vector3d (-1, 0, 0);
+  left->side_offset = 0.0; // x < 0 only: the left half of the image
+  auto right = std::make_shared<PlaneSurface> (Eigen::Vector3d (0, 0, -1), Eigen::Vector3d (0, 0, 1.15));
+  s.surfaces = {left, right};
+  const auto noise = pcl::texlet::NoiseModel::paper ();
+  const Render r = render (s, cam, &noise, 21);
+  const Eigen::Vector3d n_left = left->n.dot (Eigen::Vector3d (0, 0, 1)) < 0 ? left->n : Eigen::Vector3d (-left->n);
+
+  // Texlets centred 2 px left of the step: about a third of each disc lies on the other wall.
+  pcl::IndicesPtr centres (new pcl::Indices);
+  for (int v = 20; v < 100; v += 5)
+    centres->push_back (v * cam.width + 77);
+  for (const double threshold : {0.0, 1.0}) // automatic (3 sigma), and 1 m: no rejection
+  {
+    pcl::TexletEstimation<pcl::PointXYZ> est;
+    est.setInputCloud (r.cloud.makeShared ());
+    est.setIndices (centres);
+    est.setCameraModel (std::make_shared<pcl::texlet::PinholeCamera> (cam.pinhole ()));
+    est.setUncertaintyMethod (UncertaintyMethod::None);
+    est.setRansacThreshold (threshold);
+    pcl::PointCloud<pcl::Texlet> out;
+    est.compute (out);
+    ASSERT_EQ (out.size (), centres->size ());
+    for (const auto &t : out)
+    {
+      ASSERT_TRUE (std::isfinite (t.x));
+      const double err = axisAngle (normalOf (t), n_left);
+      if (threshold == 0.0)
+      {
+        EXPECT_LT (err, 0.05) << "RANSAC should reject the far wall";
+        EXPECT_LT (t.support, 100u); // the disc has 113 pixels; the far wall's are outliers
+      }
+      else
+        EXPECT_GT (err, 0.15) << "without rejection the step bends the normal";
+    }
+  }
+}
+
+TEST (TexletEstimation, SameSeedSameOutputOnOneAndTwoThreads)
+{
+  const CameraSpec cam;
+  const auto noise = pcl::texlet::NoiseModel::paper ();
+  const Render r = render (boxScene (), cam, &noise, 8);
+  for (auto unc : {UncertaintyMethod::MonteCarlo, UncertaintyMethod::Analytic})
+  {
+    const auto a = extract (r.cloud, cam, PlaneFitMethod::PCA, unc, noise, 3, 1, 42);
+    const auto b = extract (r.cloud, cam, PlaneFitMethod::PCA, unc, noise, 3, 2, 42);
+    ASSERT_EQ (a.size (), b.size ());
+    EXPECT_EQ (0, std::memcmp (a.data (), b.data (), a.size () * sizeof (pcl::Texlet)));
+  }
+  // A different seed changes the Monte Carlo covariances.
+  const auto c = extract (r.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::MonteCarlo, noise, 3, 2, 43);
+  const auto a = extract (r.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::MonteCarlo, noise, 3, 2, 42);
+  EXPECT_NE (0, std::memcmp (a.data (), c.data (), a.size () * sizeof (pcl::Texlet)));
+}
+
+TEST (TexletEstimation, MeanColourOfTheInliers)
+{
+  const CameraSpec cam;
+  const Render r = render (tiltedPlane (0, 0, 1.0), cam, nullptr, 0);
+  pcl::PointCloud<pcl::PointXYZRGB> cloud;
+  pcl::copyPointCloud (r.cloud, cloud);
+  for (std::size_t i = 0; i < cloud.size (); ++i)
+  {
+    const int u = static_cast<int> (i % cam.width);
+    cloud[i].r = u < 80 ? 200 : 100; // two colour halves
+    cloud[i].g = 50;
+    cloud[i].b = static_cast<std::uint8_t> (u % 2 ? 11 : 13); // alternating columns: mean 12
+  }
+  pcl::TexletEstimation<pcl::PointXYZRGB> est;
+  est.setInputCloud (cloud.makeShared ());
+  est.setUncertaintyMethod (UncertaintyMethod::None);
+  pcl::PointCloud<pcl::Texlet> out;
+  est.compute (out);
+  int checked = 0;
+  for (const auto &t : out)
+  {
+    const int u = static_cast<int> (t.pixel_index % cam.width);
+    if (u < 10 || u > 150 || std::abs (u - 80) < 8)
+      continue;
+    EXPECT_EQ (t.r, u < 80 ? 200 : 100);
+    EXPECT_EQ (t.g, 50);
+    EXPECT_NEAR (t.b, 12, 1);
+    ++checked;
+  }
+  EXPECT_GT (checked, 200);
+}
+
+TEST (TexletEstimation, EstimatesTheCameraWhenNoneIsSet)
+{
+  const CameraSpec cam{160, 120, 131.0, 129.0, 83.0, 55.5};
+  const Render r = render (tiltedPlane (10, 10, 1.0), cam, nullptr, 0);
+  const auto estimated = pcl::texlet::estimatePinholeCamera (r.cloud);
+  EXPECT_NEAR (estimated.fx (), 131.0, 1e-3);
+  EXPECT_NEAR (estimated.fy (), 129.0, 1e-3);
+  EXPECT_NEAR (estimated.cx (), 83.0, 1e-3);
+  EXPECT_NEAR (estimated.cy (), 55.5, 1e-3);
+}
+
+TEST (TexletEstimation, DegenerateNeighbourhoodsGiveNaNTexletsAndANonDenseOutput)
+{
+  // Only one row of valid pixels: every neighbourhood is collinear.
+  const CameraSpec cam;
+  Render r = render (tiltedPlane (0, 0, 1.0), cam, nullptr, 0);
+  for (std::size_t i = 0; i < r.cloud.size (); ++i)
+    if (i / cam.width != 60)
+      r.cloud[i].x = r.cloud[i].y = r.cloud[i].z = std::numeric_limits<float>::quiet_NaN ();
+  const auto out = extract (r.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::MonteCarlo);
+  EXPECT_FALSE (out.is_dense);
+  for (const auto &t : out)
+  {
+    EXPECT_FALSE (std::isfinite (t.x));
+    EXPECT_FALSE (std::isfinite (t.normal_x));
+    EXPECT_FALSE (std::isfinite (t.cov_p_xx));
+    EXPECT_EQ (t.support, 0u);
+  }
+}
+
+TEST (TexletEstimation, BadInputGetsAClearError)
+{
+  pcl::TexletEstimation<pcl::PointXYZ> est;
+  pcl::PointCloud<pcl::Texlet> out;
+  EXPECT_THROW (est.compute (out), pcl::InitFailedException); // no input at all
+
+  pcl::PointCloud<pcl::PointXYZ>::Ptr flat (new pcl::PointCloud<pcl::PointXYZ>);
+  flat->resize (1000, pcl::PointXYZ (0, 0, 1)); // width 1000, height 1: unorganised
+  est.setInputCloud (flat);
+  try
+  {
+    est.compute (out);
+    FAIL () << "an unorganised cloud must be rejected";
+  }
+  catch (const pcl::UnorganizedPointCloudException &e)
+  {
+    EXPECT_NE (std::string (e.what ()).find ("not organised"), std::string::npos) << e.what ();
+  }
+
+  try
+  {
+    est.setSpacing (0);
+    FAIL () << "spacing 0 must be rejected";
+  }
+  catch (const pcl::BadArgumentException &e)
+  {
+    EXPECT_NE (std::string (e.what ()).find ("spacing"), std::string::npos) << e.what ();
+  }
+  EXPECT_EQ (est.getSpacing (), 6); // a rejected value leaves the setting as it was
+  EXPECT_THROW (est.setRadius (-2), pcl::BadArgumentException);
+  EXPECT_THROW (est.setRansacIterations (0), pcl::BadArgumentException);
+  EXPECT_THROW (est.setRansacThreshold (-0.01), pcl::BadArgumentException);
+  EXPECT_THROW (est.setRansacThreshold (std::nan ("")), pcl::BadArgumentException);
+  EXPECT_THROW (est.setRansacThresholdSigmas (0), pcl::BadArgumentException);
+  EXPECT_THROW (est.setMonteCarloSamples (1), pcl::BadArgumentException);
+  EXPECT_THROW (est.setMinSupport (2), pcl::BadArgumentException);
+  EXPECT_THROW (est.setViewPoint (0, std::nanf (""), 0), pcl::BadArgumentException);
+  EXPECT_THROW (pcl::texlet::PinholeCamera (0, 500, 320, 240), pcl::BadArgumentException);
+  EXPECT_THROW (pcl::texlet::planeFitMethodFromString ("ransac"), pcl::BadArgumentException);
+
+  // All depth invalid.
+  pcl::PointCloud<pcl::PointXYZ>::Ptr empty (new pcl::PointCloud<pcl::PointXYZ> (64, 48));
+  for (auto &p : *empty)
+    p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN ();
+  est.setInputCloud (empty);
+  est.setCameraModel (std::make_shared<pcl::texlet::PinholeCamera> (50, 50, 32, 24));
+  EXPECT_THROW (est.compute (out), pcl::ComputeFailedException);
+
+  // An index outside the cloud.
+  const CameraSpec cam;
+  const Render r = render (tiltedPlane (0, 0, 1.0), cam, nullptr, 0);
+  est.setInputCloud (r.cloud.makeShared ());
+  est.setIndices (pcl::IndicesPtr (new pcl::Indices{5, static_cast<int> (r.cloud.size ())}));
+  EXPECT_THROW (est.compute (out), pcl::BadArgumentException);
+
+  pcl::Texlet t;
+  pcl::texlet::TexletParameters p;
+  EXPECT_THROW (pcl::computeTexlet (r.cloud, -1, p, cam.pinhole (), pcl::texlet::NoiseModel::paper (), t),
+                pcl::BadArgumentException);
+  EXPECT_THROW (pcl::computeTexlet (*flat, 0, p, cam.pinhole (), pcl::texlet::NoiseModel::paper (), t),
+                pcl::UnorganizedPointCloudException);
+}
+
+TEST (TexletEstimation, FreeFunctionMatchesTheClass)
+{
+  const CameraSpec cam;
+  const auto noise = pcl::texlet::NoiseModel::paper ();
+  const Render r = render (sphereScene (), cam, &noise, 3);
+  const auto out = extract (r.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::MonteCarlo);
+  pcl::texlet::TexletParameters p;
+  p.seed = 1;
+  for (std::size_t i = 0; i < out.size (); i += 17)
+  {
+    pcl::Texlet t;
+    const bool ok = pcl::computeTexlet (r.cloud, out[i].pixel_index, p, cam.pinhole (), noise, t);
+    EXPECT_EQ (ok, std::isfinite (out[i].x));
+    if (ok)
+      EXPECT_EQ (0, std::memcmp (&t, &out[i], sizeof (pcl::Texlet)));
+  }
+}
