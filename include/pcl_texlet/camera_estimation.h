@@ -8,6 +8,7 @@
 #pragma once
 
 #include <pcl_texlet/camera_model.h>
+#include <pcl_texlet/valid_point.h>
 
 #include <pcl/exceptions.h>
 #include <pcl/point_cloud.h>
@@ -35,7 +36,7 @@ estimatePinholeCamera (const pcl::PointCloud<PointT> &cloud)
     for (std::uint32_t u = 0; u < cloud.width; u += step)
     {
       const PointT &p = cloud (u, v);
-      if (!std::isfinite (p.x) || !std::isfinite (p.y) || !std::isfinite (p.z) || !(p.z > 0))
+      if (!isValidDepthPoint (p))
         continue;
       const double a = p.x / p.z, b = p.y / p.z;
       n += 1; sx += a; sxx += a * a; su += u; sxu += a * u;

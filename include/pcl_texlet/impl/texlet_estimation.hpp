@@ -8,10 +8,11 @@
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/kernels/texlet_kernel.h>
 #include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/valid_point.h>
 
 #include <pcl/common/point_tests.h>
 #include <pcl/exceptions.h>
-#include <pcl/type_traits.h>
+#include <pcl/point_types.h> // pcl::traits::has_color_v
 
 #include <cmath>
 #include <limits>
@@ -84,7 +85,7 @@ public:
       if (u < 0 || v < 0 || u >= w || v >= h)
         continue;
       const PointInT &p = cloud_ (u, v);
-      if (!validPoint (p))
+      if (!isValidDepthPoint (p))
         continue;
       x_[count] = p.x; y_[count] = p.y; z_[count] = p.z;
       pixel_[count] = v * w + u;
@@ -106,7 +107,7 @@ public:
       nb.ring_valid[k] = false;
       nb.ring[k] = {0, 0, 0};
       nb.ring_sigma[k] = 0;
-      if (u < 0 || v < 0 || u >= w || v >= h || !validPoint (cloud_ (u, v)))
+      if (u < 0 || v < 0 || u >= w || v >= h || !isValidDepthPoint (cloud_ (u, v)))
         continue;
       const PointInT &p = cloud_ (u, v);
       nb.ring[k] = {p.x, p.y, p.z};
@@ -141,12 +142,6 @@ public:
   }
 
 private:
-  static bool
-  validPoint (const PointInT &p)
-  {
-    return std::isfinite (p.x) && std::isfinite (p.y) && std::isfinite (p.z) && p.z > 0.0f;
-  }
-
   /** Depth SD in metres at pixel (u, v) and depth z (metres), from the per-pixel image when
     * there is one. */
   double
@@ -362,34 +357,39 @@ template <typename PointInT, typename PointOutT> void
 TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
 {
   const pcl::PointCloud<PointInT> &cloud = *input_;
-  texlet::CameraModel::ConstPtr camera = camera_;
-  if (!camera)
-    camera = std::make_shared<texlet::PinholeCamera> (texlet::estimatePinholeCamera (cloud));
-
+  const int w = static_cast<int> (cloud.width), h = static_cast<int> (cloud.height);
 #ifdef _OPENMP
   const int threads = threads_ == 0 ? omp_get_num_procs () : static_cast<int> (threads_);
 #endif
 
-  // Per-pixel depth SD, once per frame: pixels are shared by the overlapping discs.
-  sigma_image_.assign (cloud.size (), std::numeric_limits<double>::quiet_NaN ());
-  const int w = static_cast<int> (cloud.width), h = static_cast<int> (cloud.height);
   std::size_t valid = 0;
-  const bool need_sigma = params_.uncertainty != texlet::UncertaintyMethod::None;
 #pragma omp parallel for num_threads(threads) reduction(+ : valid) schedule(static)
   for (int v = 0; v < h; ++v)
     for (int u = 0; u < w; ++u)
-    {
-      const PointInT &p = cloud (u, v);
-      if (!std::isfinite (p.x) || !std::isfinite (p.y) || !std::isfinite (p.z) || !(p.z > 0.0f))
-        continue;
-      ++valid;
-      if (!need_sigma)
-        continue;
-      sigma_image_[static_cast<std::size_t> (v) * w + u] = texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z);
-    }
+      valid += texlet::isValidDepthPoint (cloud (u, v)) ? 1 : 0;
   if (valid == 0)
     throw pcl::ComputeFailedException ("pcl::TexletEstimation: the input cloud has no valid point (all depth is "
                                        "invalid: NaN, infinite or not in front of the camera)");
+
+  texlet::CameraModel::ConstPtr camera = camera_;
+  if (!camera)
+    camera = std::make_shared<texlet::PinholeCamera> (texlet::estimatePinholeCamera (cloud));
+
+  // Per-pixel depth SD, once per frame: pixels are shared by the overlapping discs.
+  const bool need_sigma = params_.uncertainty != texlet::UncertaintyMethod::None;
+  if (need_sigma)
+  {
+    sigma_image_.assign (cloud.size (), std::numeric_limits<double>::quiet_NaN ());
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u)
+      {
+        const PointInT &p = cloud (u, v);
+        if (texlet::isValidDepthPoint (p))
+          sigma_image_[static_cast<std::size_t> (v) * w + u] =
+              texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z);
+      }
+  }
 
   const auto n = static_cast<std::ptrdiff_t> (indices_->size ());
   std::size_t made = 0;

@@ -57,25 +57,19 @@ computeTexlet (const Neighbourhood<S> &nb, const TexletSettings<S> &st, std::uin
   if (nb.count < min_support)
     return;
 
-  Plane<S> plane;
+  Plane<S> plane = {{S (0), S (0), S (0)}, S (0)};
   const int inliers = ransacPlane (nb.x, nb.y, nb.z, nb.count, st.ransac_iterations, st.threshold, st.seed, texlet, plane);
   if (inliers < min_support)
     return;
 
   PlaneMoments<S> m;
-  bool first = true;
+  m.reset (nb.point (0)); // any point of the patch keeps the sums small
   for (int k = 0; k < nb.count; ++k)
   {
     const Vec3<S> p = nb.point (k);
     mask[k] = pointPlaneDistance (plane, p) <= st.threshold ? 1 : 0;
-    if (!mask[k])
-      continue;
-    if (first)
-    {
-      m.reset (p);
-      first = false;
-    }
-    m.add (p);
+    if (mask[k])
+      m.add (p);
   }
   PlaneFit<S> fit;
   if (!fitPlanePca (m, fit))
