@@ -1,0 +1,359 @@
+/*
+ * pcl_texlet_extract: texlets from an organised PCD file, a folder of them, or a recording
+ * folder (DESIGN.md section 4), written as texlet PCD files, with a summary on stdout.
+ *
+ * Exit codes: 0 success, 2 bad input or options (one line on stderr), 1 unexpected failure.
+ */
+#include <pcl_texlet/depth_image.h>
+#include <pcl_texlet/kernels/pixel_disc.h>
+#include <pcl_texlet/recording.h>
+#include <pcl_texlet/texlet_estimation.h>
+
+#include <pcl/console/print.h>
+#include <pcl/io/pcd_io.h>
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using pcl::texlet::CameraModel;
+
+namespace
+{
+
+const char *const kName = "pcl_texlet_extract";
+
+/** Bad input or options: reported on one line, exit code 2. */
+struct InputError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/** PCL's exceptions prefix their text with ": " when no function is named. */
+std::string
+clean (const std::string &what)
+{
+  return what.rfind (": ", 0) == 0 ? what.substr (2) : what;
+}
+
+struct Options
+{
+  std::string input, output;
+  pcl::texlet::TexletParameters params;
+  std::string fit = "pca", uncertainty = "montecarlo";
+  double threshold_mm = 0.0;
+  std::vector<double> intrinsics; // fx fy cx cy
+  unsigned threads = 0;
+  bool ascii = false, quiet = false;
+};
+
+/** Running statistics for the summary. */
+struct Summary
+{
+  std::size_t frames = 0, texlets = 0, valid = 0;
+  double seconds = 0.0;
+  std::vector<double> position_sd_mm, normal_sd_deg, inlier_share;
+};
+
+double
+median (std::vector<double> v)
+{
+  if (v.empty ())
+    return std::nan ("");
+  std::nth_element (v.begin (), v.begin () + v.size () / 2, v.end ());
+  return v[v.size () / 2];
+}
+
+/** Writes atomically: to a temporary name, renamed once complete. */
+void
+writeTexlets (const std::string &path, const pcl::PointCloud<pcl::Texlet> &texlets, bool ascii)
+{
+  const std::string tmp = path + ".tmp";
+  const int rc = ascii ? pcl::PCDWriter ().writeASCII (tmp, texlets, 9) : pcl::PCDWriter ().writeBinary (tmp, texlets);
+  std::error_code ec;
+  if (rc != 0)
+  {
+    fs::remove (tmp, ec);
+    throw InputError ("cannot write '" + path + "'");
+  }
+  fs::rename (tmp, path, ec);
+  if (ec)
+  {
+    fs::remove (tmp, ec);
+    throw InputError ("cannot write '" + path + "': " + ec.message ());
+  }
+}
+
+class Extractor
+{
+public:
+  explicit Extractor (const Options &o) : o_ (o)
+  {
+    if (o.intrinsics.size () == 4)
+      camera_ = std::make_shared<pcl::texlet::PinholeCamera> (o.intrinsics[0], o.intrinsics[1], o.intrinsics[2],
+                                                              o.intrinsics[3]);
+  }
+
+  /** Texlets of one organised cloud, written to `out`. */
+  template <typename PointT> void
+  run (const typename pcl::PointCloud<PointT>::ConstPtr &cloud, const CameraModel::ConstPtr &camera,
+       const std::string &source, const std::string &out)
+  {
+    pcl::TexletEstimation<PointT> est;
+    est.setParameters (o_.params);
+    est.setNumberOfThreads (o_.threads);
+    est.setInputCloud (cloud);
+    est.setCameraModel (camera_ ? camera_ : camera);
+    pcl::PointCloud<pcl::Texlet> texlets;
+    const auto t0 = std::chrono::steady_clock::now ();
+    try
+    {
+      est.compute (texlets);
+    }
+    catch (const pcl::PCLException &e)
+    {
+      throw InputError (source + ": " + clean (e.what ()));
+    }
+    const double s = std::chrono::duration<double> (std::chrono::steady_clock::now () - t0).count ();
+    writeTexlets (out, texlets, o_.ascii);
+
+    const double disc = static_cast<double> (pcl::texlet::kernels::pixelDiscSize (o_.params.radius));
+    std::size_t valid = 0;
+    for (const auto &t : texlets)
+    {
+      if (!std::isfinite (t.x))
+        continue;
+      ++valid;
+      sum_.inlier_share.push_back (t.support / disc);
+      if (std::isfinite (t.cov_p_xx))
+      {
+        sum_.position_sd_mm.push_back (1e3 * std::sqrt (t.cov_p_xx + t.cov_p_yy + t.cov_p_zz));
+        sum_.normal_sd_deg.push_back (180.0 / M_PI * std::sqrt (t.cov_n_11 + t.cov_n_22));
+      }
+    }
+    ++sum_.frames;
+    sum_.texlets += texlets.size ();
+    sum_.valid += valid;
+    sum_.seconds += s;
+    if (!o_.quiet && frames_total_ > 1)
+      std::cerr << kName << ": frame " << sum_.frames << "/" << frames_total_ << " " << fs::path (source).filename ().string ()
+                << ": " << valid << "/" << texlets.size () << " texlets in " << std::fixed << std::setprecision (1)
+                << 1e3 * s << " ms" << std::defaultfloat << std::endl;
+  }
+
+  void
+  setFrameCount (std::size_t n) { frames_total_ = n; }
+
+  const Summary &
+  summary () const { return sum_; }
+
+private:
+  const Options &o_;
+  CameraModel::ConstPtr camera_;
+  Summary sum_;
+  std::size_t frames_total_ = 1;
+};
+
+/** Organised PCD file: XYZRGBA when it has colour, XYZ otherwise. */
+void
+extractPcd (Extractor &ex, const std::string &file, const std::string &out)
+{
+  if (!fs::is_regular_file (file))
+    throw InputError ("input '" + file + "' does not exist or is not a file");
+  pcl::PCLPointCloud2 header;
+  int version, type;
+  unsigned int offset;
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  if (pcl::PCDReader ().readHeader (file, header, origin, orientation, version, type, offset) != 0)
+    throw InputError ("cannot read '" + file + "': not a PCD file or a corrupt header");
+  bool colour = false;
+  int xyz = 0;
+  for (const auto &f : header.fields)
+  {
+    colour |= f.name == "rgb" || f.name == "rgba";
+    xyz += (f.name == "x" || f.name == "y" || f.name == "z") ? 1 : 0;
+  }
+  if (xyz != 3)
+    throw InputError ("'" + file + "' has no x, y, z fields");
+  if (header.height <= 1)
+    throw InputError ("'" + file + "' is not an organised cloud (height " + std::to_string (header.height) +
+                      "): texlets need the pixel grid of a depth image");
+  const auto load = [&] (auto cloud) {
+    if (pcl::io::loadPCDFile (file, *cloud) != 0 || cloud->size () != static_cast<std::size_t> (header.width) * header.height)
+      throw InputError ("cannot read '" + file + "': corrupt or truncated PCD data");
+    return cloud;
+  };
+  if (colour)
+    ex.run<pcl::PointXYZRGBA> (load (std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ()), nullptr, file, out);
+  else
+    ex.run<pcl::PointXYZ> (load (std::make_shared<pcl::PointCloud<pcl::PointXYZ>> ()), nullptr, file, out);
+}
+
+void
+extractRecording (Extractor &ex, pcl::texlet::RecordingFolderReader &reader, const std::string &folder,
+                  const std::string &out_dir)
+{
+  const auto &info = reader.cameraInfo ();
+  const auto camera = std::make_shared<pcl::texlet::PinholeCamera> (info.fx (), info.fy (), info.cx (), info.cy ());
+  ex.setFrameCount (reader.size ());
+  pcl::texlet::DepthFrame frame;
+  while (reader.next (frame))
+  {
+    auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
+    pcl::texlet::depthToCloud (frame, *camera, *cloud);
+    ex.run<pcl::PointXYZRGBA> (cloud, camera, folder + "/depth/" + frame.name + ".png",
+                               (fs::path (out_dir) / (frame.name + ".pcd")).string ());
+  }
+}
+
+/** The *.pcd files of a folder, sorted by name. */
+std::vector<fs::path>
+listPcdFiles (const std::string &folder)
+{
+  std::vector<fs::path> files;
+  for (const auto &e : fs::directory_iterator (folder))
+    if (e.is_regular_file () && e.path ().extension () == ".pcd")
+      files.push_back (e.path ());
+  if (files.empty ())
+    throw InputError ("input folder '" + folder + "' has neither camera.yaml + depth/ (a recording) nor *.pcd files");
+  std::sort (files.begin (), files.end ());
+  return files;
+}
+
+void
+extractPcdFolder (Extractor &ex, const std::vector<fs::path> &files, const std::string &out_dir)
+{
+  ex.setFrameCount (files.size ());
+  for (const auto &f : files)
+    extractPcd (ex, f.string (), (fs::path (out_dir) / f.filename ()).string ());
+}
+
+void
+printSummary (const Summary &s, const Options &o)
+{
+  std::cout << std::fixed << std::setprecision (3);
+  std::cout << "frames:                " << s.frames << "\n"
+            << "texlets:               " << s.valid << " valid of " << s.texlets << " centres ("
+            << (s.texlets ? 100.0 * s.valid / s.texlets : 0.0) << " %)\n"
+            << "time:                  " << 1e3 * s.seconds / std::max<std::size_t> (s.frames, 1) << " ms per frame ("
+            << pcl::texlet::toString (o.params.fit) << ", " << pcl::texlet::toString (o.params.uncertainty) << ")\n"
+            << "median inlier share:   " << 100.0 * median (s.inlier_share) << " % of the disc\n";
+  if (!s.position_sd_mm.empty ())
+    std::cout << "median position SD:    " << median (s.position_sd_mm) << " mm  (sqrt trace Sigma_P)\n"
+              << "median normal SD:      " << median (s.normal_sd_deg) << " deg (sqrt trace Sigma_N)\n";
+  std::cout << "output:                " << o.output << std::endl;
+}
+
+int
+run (int argc, char **argv)
+{
+  Options o;
+  CLI::App app ("Extract texlets (surface patches with uncertainties) from organised depth data.\n"
+                "INPUT: an organised PCD file, a folder of them, or a recording folder (camera.yaml + depth/*.png).\n"
+                "OUTPUT: a texlet PCD file for a PCD input, else a folder with one texlet PCD per frame.",
+                kName);
+  app.add_option ("INPUT", o.input, "organised PCD file, folder of PCD files, or recording folder")->required ();
+  app.add_option ("OUTPUT", o.output, "texlet PCD file, or output folder for several frames")->required ();
+  app.add_option ("-s,--spacing", o.params.spacing, "hexagonal grid spacing, pixels")->capture_default_str ();
+  app.add_option ("-r,--radius", o.params.radius, "neighbourhood radius, pixels")->capture_default_str ();
+  app.add_option ("-i,--iterations", o.params.ransac_iterations, "RANSAC iterations")->capture_default_str ();
+  app.add_option ("-t,--threshold", o.threshold_mm, "RANSAC inlier distance, mm (0: from the noise model)")
+      ->capture_default_str ();
+  app.add_option ("--sigmas", o.params.threshold_sigmas, "automatic threshold in depth SDs")->capture_default_str ();
+  app.add_option ("-f,--fit", o.fit, "plane fit: pca, svd, averaging")->capture_default_str ();
+  app.add_option ("-u,--uncertainty", o.uncertainty, "uncertainty: montecarlo, analytic, none")->capture_default_str ();
+  app.add_option ("-n,--samples", o.params.samples, "Monte Carlo samples")->capture_default_str ();
+  app.add_option ("--seed", o.params.seed, "random seed")->capture_default_str ();
+  app.add_option ("--min-support", o.params.min_support, "fewest inliers for a texlet")->capture_default_str ();
+  app.add_option ("--camera", o.intrinsics, "pinhole intrinsics fx fy cx cy, pixels (default: from camera.yaml, "
+                                            "or estimated from the cloud)")
+      ->expected (4);
+  app.add_option ("-j,--threads", o.threads, "threads (0: all)")->capture_default_str ();
+  app.add_flag ("--ascii", o.ascii, "write ASCII PCD (9 significant digits: exact) instead of binary");
+  app.add_flag ("-q,--quiet", o.quiet, "no progress lines");
+  try
+  {
+    app.parse (argc, argv);
+  }
+  catch (const CLI::CallForHelp &)
+  {
+    std::cout << app.help ();
+    return 0;
+  }
+  catch (const CLI::ParseError &e)
+  {
+    throw InputError (e.what ());
+  }
+
+  pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS); // errors come from us, on one line
+  try
+  {
+    o.params.fit = pcl::texlet::planeFitMethodFromString (o.fit);
+    o.params.uncertainty = pcl::texlet::uncertaintyMethodFromString (o.uncertainty);
+    o.params.ransac_threshold = o.threshold_mm * 1e-3;
+    pcl::texlet::validate (o.params);
+    if (o.threads > 1024)
+      throw InputError ("--threads " + std::to_string (o.threads) + " is not a sensible thread count");
+    Extractor ex (o);
+
+    if (fs::is_directory (o.input))
+    {
+      if (fs::exists (o.output) && !fs::is_directory (o.output))
+        throw InputError ("OUTPUT '" + o.output + "' must be a folder when INPUT is a folder");
+      // Inputs are checked before the output folder is made.
+      if (pcl::texlet::RecordingFolderReader::isRecordingFolder (o.input))
+      {
+        pcl::texlet::RecordingFolderReader reader (o.input);
+        fs::create_directories (o.output);
+        extractRecording (ex, reader, o.input, o.output);
+      }
+      else
+      {
+        const auto files = listPcdFiles (o.input);
+        fs::create_directories (o.output);
+        extractPcdFolder (ex, files, o.output);
+      }
+    }
+    else
+    {
+      if (!fs::exists (fs::absolute (o.output).parent_path ()))
+        throw InputError ("the folder that should hold OUTPUT '" + o.output + "' does not exist");
+      extractPcd (ex, o.input, o.output);
+    }
+    printSummary (ex.summary (), o);
+  }
+  catch (const pcl::PCLException &e)
+  {
+    throw InputError (clean (e.what ()));
+  }
+  return 0;
+}
+
+} // namespace
+
+int
+main (int argc, char **argv)
+{
+  try
+  {
+    return run (argc, argv);
+  }
+  catch (const InputError &e)
+  {
+    std::cerr << kName << ": error: " << e.what () << std::endl;
+    return 2;
+  }
+  catch (const std::exception &e)
+  {
+    std::cerr << kName << ": internal error: " << e.what () << std::endl;
+    return 1;
+  }
+}

@@ -1,0 +1,214 @@
+/*
+ * pcl_texlet_extract end to end: the bundled real frame, a recording folder, and bad input
+ * (exit code 2, one line on stderr, no output file left behind).
+ */
+#include <pcl_texlet/kernels/hex_grid.h>
+#include <pcl_texlet/point_types.h>
+#include <pcl_texlet/recording.h>
+
+#include <pcl/io/pcd_io.h>
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace
+{
+
+struct Result
+{
+  int code = -1;
+  std::string out, err;
+};
+
+std::string
+slurp (const fs::path &p)
+{
+  std::ifstream f (p);
+  std::stringstream s;
+  s << f.rdbuf ();
+  return s.str ();
+}
+
+class ExtractApp : public ::testing::Test
+{
+protected:
+  fs::path dir = fs::temp_directory_path () /
+                 ("pcl_texlet_app_" + std::to_string (::getpid ()) + "_" +
+                  ::testing::UnitTest::GetInstance ()->current_test_info ()->name ());
+
+  void SetUp () override { fs::create_directories (dir); }
+  void TearDown () override { fs::remove_all (dir); }
+
+  Result
+  run (const std::string &args)
+  {
+    const std::string cmd = std::string (EXTRACT_APP) + " " + args + " > " + (dir / "stdout").string () + " 2> " +
+                            (dir / "stderr").string ();
+    const int status = std::system (cmd.c_str ());
+    Result r;
+    r.code = WIFEXITED (status) ? WEXITSTATUS (status) : -1;
+    r.out = slurp (dir / "stdout");
+    r.err = slurp (dir / "stderr");
+    return r;
+  }
+
+  /** Bad input: exit 2, exactly one line on stderr that mentions `needle`, no output file. */
+  void
+  expectRejected (const std::string &args, const std::string &needle, const fs::path &output)
+  {
+    const Result r = run (args);
+    EXPECT_EQ (r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ (std::count (r.err.begin (), r.err.end (), '\n'), 1) << r.err;
+    EXPECT_NE (r.err.find (needle), std::string::npos) << "stderr: " << r.err << " should mention " << needle;
+    EXPECT_FALSE (fs::exists (output)) << output;
+    EXPECT_FALSE (fs::exists (output.string () + ".tmp"));
+  }
+
+  /** A recording folder of `frames` 64x48 frames of a tilted wall. */
+  fs::path
+  makeRecording (int frames)
+  {
+    const fs::path rec = dir / "rec";
+    fs::create_directories (rec / "depth");
+    pcl::texlet::CameraInfo info;
+    info.width = 64;
+    info.height = 48;
+    const double K[9] = {60, 0, 31.5, 0, 60, 23.5, 0, 0, 1};
+    std::copy (K, K + 9, info.K);
+    pcl::texlet::saveCameraInfoYaml ((rec / "camera.yaml").string (), info);
+    for (int f = 0; f < frames; ++f)
+    {
+      std::vector<std::uint16_t> depth (64 * 48);
+      for (int v = 0; v < 48; ++v)
+        for (int u = 0; u < 64; ++u)
+          depth[v * 64 + u] = static_cast<std::uint16_t> (1000 + 2 * u + f);
+      char name[32];
+      std::snprintf (name, sizeof (name), "%06d.png", f);
+      pcl::texlet::writeDepthPng ((rec / "depth" / name).string (), depth.data (), 64, 48);
+    }
+    return rec;
+  }
+};
+
+const std::string kRealFrame = std::string (DATA_DIR) + "/kinect/grabber_sequence/pcd/frame_20121214T142255.814212.pcd";
+
+} // namespace
+
+TEST_F (ExtractApp, RealKinectFrame)
+{
+  const fs::path out = dir / "texlets.pcd";
+  const Result r = run (kRealFrame + " " + out.string () + " --uncertainty analytic");
+  ASSERT_EQ (r.code, 0) << r.err;
+  pcl::PointCloud<pcl::Texlet> texlets;
+  ASSERT_EQ (pcl::io::loadPCDFile (out.string (), texlets), 0);
+  EXPECT_EQ (static_cast<int> (texlets.size ()), pcl::texlet::kernels::makeHexGrid (640, 480, 6).size ());
+  std::size_t valid = 0;
+  for (const auto &t : texlets)
+    if (std::isfinite (t.x))
+    {
+      ++valid;
+      EXPECT_NEAR (std::sqrt (t.normal_x * t.normal_x + t.normal_y * t.normal_y + t.normal_z * t.normal_z), 1.0, 1e-5);
+      EXPECT_LT (t.normal_x * t.x + t.normal_y * t.y + t.normal_z * t.z, 0.0f); // faces the camera
+      EXPECT_GT (t.cov_p_zz, 0.0f);
+    }
+  EXPECT_GT (valid, texlets.size () / 2);
+  EXPECT_NE (r.out.find ("median normal SD"), std::string::npos) << r.out;
+  EXPECT_FALSE (fs::exists (out.string () + ".tmp"));
+}
+
+TEST_F (ExtractApp, RecordingFolderWritesOneFilePerFrame)
+{
+  const fs::path rec = makeRecording (3), out = dir / "out";
+  const Result r = run (rec.string () + " " + out.string () + " --spacing 8 --uncertainty montecarlo --samples 20");
+  ASSERT_EQ (r.code, 0) << r.err;
+  for (const char *name : {"000000.pcd", "000001.pcd", "000002.pcd"})
+  {
+    pcl::PointCloud<pcl::Texlet> texlets;
+    ASSERT_EQ (pcl::io::loadPCDFile ((out / name).string (), texlets), 0) << name;
+    ASSERT_EQ (static_cast<int> (texlets.size ()), pcl::texlet::kernels::makeHexGrid (64, 48, 8).size ());
+    // z = 1 + 0.002 u (metres, u in pixels) with fx 60: the wall's normal is along (0.12, 0, -1).
+    const Eigen::Vector3f truth = Eigen::Vector3f (0.12f, 0.0f, -1.0f).normalized ();
+    for (const auto &t : texlets)
+      if (std::isfinite (t.x))
+        EXPECT_GT (Eigen::Vector3f (t.normal_x, t.normal_y, t.normal_z).dot (truth), 0.999f);
+  }
+  EXPECT_NE (r.err.find ("frame 3/3"), std::string::npos) << r.err; // progress lines
+}
+
+TEST_F (ExtractApp, BadInputExitsTwoWithOneLine)
+{
+  const fs::path out = dir / "out.pcd";
+  expectRejected ((dir / "missing.pcd").string () + " " + out.string (), "missing.pcd", out);
+
+  std::ofstream (dir / "garbage.pcd") << "this is not a point cloud\n";
+  expectRejected ((dir / "garbage.pcd").string () + " " + out.string (), "garbage.pcd", out);
+
+  // Truncated: the real frame cut in half.
+  {
+    const std::string data = slurp (kRealFrame);
+    std::ofstream (dir / "truncated.pcd", std::ios::binary).write (data.data (), data.size () / 2);
+  }
+  expectRejected ((dir / "truncated.pcd").string () + " " + out.string (), "truncated.pcd", out);
+
+  pcl::PointCloud<pcl::PointXYZ> flat;
+  flat.resize (500, pcl::PointXYZ (0, 0, 1));
+  pcl::io::savePCDFileBinary ((dir / "flat.pcd").string (), flat);
+  expectRejected ((dir / "flat.pcd").string () + " " + out.string (), "not an organised", out);
+
+  pcl::PointCloud<pcl::PointXYZ> invalid (64, 48, pcl::PointXYZ (NAN, NAN, NAN));
+  pcl::io::savePCDFileBinary ((dir / "invalid.pcd").string (), invalid);
+  expectRejected ((dir / "invalid.pcd").string () + " " + out.string (), "no valid point", out);
+
+  expectRejected (kRealFrame + " " + out.string () + " --spacing 0", "spacing", out);
+  expectRejected (kRealFrame + " " + out.string () + " --radius -3", "radius", out);
+  expectRejected (kRealFrame + " " + out.string () + " --iterations 0", "ransac_iterations", out);
+  expectRejected (kRealFrame + " " + out.string () + " --samples 1", "samples", out);
+  expectRejected (kRealFrame + " " + out.string () + " --threshold -1", "threshold", out);
+  expectRejected (kRealFrame + " " + out.string () + " --fit ransac", "ransac", out);
+  expectRejected (kRealFrame + " " + out.string () + " --camera 0 525 320 240", "focal", out);
+  expectRejected (kRealFrame + " " + out.string () + " --spacing six", "spacing", out);
+  expectRejected (kRealFrame + " " + (dir / "no" / "such" / "dir" / "out.pcd").string (), "does not exist",
+                  dir / "no");
+  expectRejected (kRealFrame, "OUTPUT", out); // missing argument
+}
+
+TEST_F (ExtractApp, BadRecordingsExitTwo)
+{
+  const fs::path rec = makeRecording (3), out = dir / "out";
+  // A frame whose size differs from camera.yaml: the frames before it are complete files, the
+  // bad one is named, and no temporary file is left.
+  {
+    std::vector<std::uint16_t> depth (32 * 24, 1000);
+    pcl::texlet::writeDepthPng ((rec / "depth" / "000001.png").string (), depth.data (), 32, 24);
+  }
+  const Result r = run (rec.string () + " " + out.string () + " --quiet");
+  EXPECT_EQ (r.code, 2) << r.err;
+  EXPECT_EQ (std::count (r.err.begin (), r.err.end (), '\n'), 1) << r.err;
+  EXPECT_NE (r.err.find ("000001.png"), std::string::npos) << r.err;
+  EXPECT_TRUE (fs::exists (out / "000000.pcd"));
+  EXPECT_FALSE (fs::exists (out / "000001.pcd"));
+  EXPECT_FALSE (fs::exists (out / "000001.pcd.tmp"));
+  fs::remove_all (out);
+
+  std::ofstream (rec / "camera.yaml") << "image_width: [unbalanced\n";
+  expectRejected (rec.string () + " " + out.string (), "camera.yaml", out);
+
+  const fs::path empty = dir / "empty";
+  fs::create_directories (empty);
+  expectRejected (empty.string () + " " + out.string (), "empty", out);
+}
+
+TEST_F (ExtractApp, HelpExitsZero)
+{
+  const Result r = run ("--help");
+  EXPECT_EQ (r.code, 0);
+  EXPECT_NE (r.out.find ("--spacing"), std::string::npos);
+  EXPECT_NE (r.out.find ("--uncertainty"), std::string::npos);
+}
