@@ -34,7 +34,7 @@ extract (const pcl::PointCloud<pcl::PointXYZ> &cloud, const CameraSpec &cam, Pla
 {
   pcl::TexletEstimation<pcl::PointXYZ> est;
   est.setInputCloud (cloud.makeShared ());
-  est.setCameraModel (std::make_shared<pcl::texlet::PinholeCamera> (cam.pinhole ()));
+  est.setCameraModel (std::make_shared<pcl::texlet::PinholeModel> (cam.pinhole ()));
   est.setNoiseModel (noise);
   est.setPlaneFitMethod (fit);
   est.setUncertaintyMethod (unc);
@@ -254,7 +254,7 @@ TEST (TexletEstimation, RansacKeepsTheNormalOfItsOwnSurfaceAtADepthStep)
     pcl::TexletEstimation<pcl::PointXYZ> est;
     est.setInputCloud (r.cloud.makeShared ());
     est.setIndices (centres);
-    est.setCameraModel (std::make_shared<pcl::texlet::PinholeCamera> (cam.pinhole ()));
+    est.setCameraModel (std::make_shared<pcl::texlet::PinholeModel> (cam.pinhole ()));
     est.setUncertaintyMethod (UncertaintyMethod::None);
     est.setRansacThreshold (threshold);
     pcl::PointCloud<pcl::Texlet> out;
@@ -329,7 +329,7 @@ TEST (TexletEstimation, EstimatesTheCameraWhenNoneIsSet)
 {
   const CameraSpec cam{160, 120, 131.0, 129.0, 83.0, 55.5};
   const Render r = render (tiltedPlane (10, 10, 1.0), cam, nullptr, 0);
-  const auto estimated = pcl::texlet::estimatePinholeCamera (r.cloud);
+  const auto estimated = pcl::texlet::estimatePinholeModel (r.cloud);
   EXPECT_NEAR (estimated.fx (), 131.0, 1e-3);
   EXPECT_NEAR (estimated.fy (), 129.0, 1e-3);
   EXPECT_NEAR (estimated.cx (), 83.0, 1e-3);
@@ -392,7 +392,7 @@ TEST (TexletEstimation, BadInputGetsAClearError)
   EXPECT_THROW (est.setMonteCarloSamples (1), pcl::BadArgumentException);
   EXPECT_THROW (est.setMinSupport (2), pcl::BadArgumentException);
   EXPECT_THROW (est.setViewPoint (0, std::nanf (""), 0), pcl::BadArgumentException);
-  EXPECT_THROW (pcl::texlet::PinholeCamera (0, 500, 320, 240), pcl::BadArgumentException);
+  EXPECT_THROW (pcl::texlet::PinholeModel (0, 500, 320, 240), pcl::BadArgumentException);
   EXPECT_THROW (pcl::texlet::planeFitMethodFromString ("ransac"), pcl::BadArgumentException);
 
   // All depth invalid.
@@ -400,7 +400,7 @@ TEST (TexletEstimation, BadInputGetsAClearError)
   for (auto &p : *empty)
     p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN ();
   est.setInputCloud (empty);
-  est.setCameraModel (std::make_shared<pcl::texlet::PinholeCamera> (50, 50, 32, 24));
+  est.setCameraModel (std::make_shared<pcl::texlet::PinholeModel> (50, 50, 32, 24));
   EXPECT_THROW (est.compute (out), pcl::ComputeFailedException);
 
   // An index outside the cloud.

@@ -47,7 +47,7 @@ meanNees (UncertaintyMethod method, int copies)
     const Render r = render (scene, cam, &noise, 5000 + copy);
     pcl::TexletEstimation<pcl::PointXYZ> est;
     est.setInputCloud (r.cloud.makeShared ());
-    est.setCameraModel (std::make_shared<pcl::texlet::PinholeCamera> (cam.pinhole ()));
+    est.setCameraModel (std::make_shared<pcl::texlet::PinholeModel> (cam.pinhole ()));
     est.setSpacing (12);
     est.setUncertaintyMethod (method);
     est.setSeed (static_cast<std::uint32_t> (copy));
@@ -132,7 +132,7 @@ TEST (Uncertainty, AnalyticAgreesWithMonteCarloOnPlanarPatches)
     {
       pcl::TexletEstimation<pcl::PointXYZ> est;
       est.setInputCloud (r.cloud.makeShared ());
-      est.setCameraModel (std::make_shared<pcl::texlet::PinholeCamera> (cam.pinhole ()));
+      est.setCameraModel (std::make_shared<pcl::texlet::PinholeModel> (cam.pinhole ()));
       est.setSpacing (12);
       est.setPlaneFitMethod (fit);
       est.setUncertaintyMethod (method);

@@ -6,6 +6,7 @@
  */
 #include <pcl_texlet/depth_image.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
+#include <pcl_texlet/pinhole_model.h>
 #include <pcl_texlet/recording.h>
 #include <pcl_texlet/texlet_estimation.h>
 
@@ -97,7 +98,7 @@ public:
   explicit Extractor (const Options &o) : o_ (o)
   {
     if (o.intrinsics.size () == 4)
-      camera_ = std::make_shared<pcl::texlet::PinholeCamera> (o.intrinsics[0], o.intrinsics[1], o.intrinsics[2],
+      camera_ = std::make_shared<pcl::texlet::PinholeModel> (o.intrinsics[0], o.intrinsics[1], o.intrinsics[2],
                                                               o.intrinsics[3]);
   }
 
@@ -202,7 +203,7 @@ extractRecording (Extractor &ex, pcl::texlet::RecordingFolderReader &reader, con
                   const std::string &out_dir)
 {
   const auto &info = reader.cameraInfo ();
-  const auto camera = std::make_shared<pcl::texlet::PinholeCamera> (info.fx (), info.fy (), info.cx (), info.cy ());
+  const auto camera = std::make_shared<pcl::texlet::PinholeModel> (pcl::texlet::PinholeModel::fromCameraInfo (info));
   ex.setFrameCount (reader.size ());
   pcl::texlet::DepthFrame frame;
   while (reader.next (frame))

@@ -7,7 +7,7 @@
  */
 #pragma once
 
-#include <pcl_texlet/camera_model.h>
+#include <pcl_texlet/pinhole_model.h>
 #include <pcl_texlet/valid_point.h>
 
 #include <pcl/exceptions.h>
@@ -24,11 +24,11 @@ namespace texlet
 /** \throws pcl::UnorganizedPointCloudException for an unorganised cloud,
   *         pcl::BadArgumentException with fewer than 16 valid points or degenerate geometry.
   */
-template <typename PointT> PinholeCamera
-estimatePinholeCamera (const pcl::PointCloud<PointT> &cloud)
+template <typename PointT> PinholeModel
+estimatePinholeModel (const pcl::PointCloud<PointT> &cloud)
 {
   if (cloud.height <= 1 || cloud.width * cloud.height != cloud.size ())
-    throw pcl::UnorganizedPointCloudException ("estimatePinholeCamera: the cloud is not organised");
+    throw pcl::UnorganizedPointCloudException ("estimatePinholeModel: the cloud is not organised");
   // Sums for the two regressions u ~ a x/z + b and v ~ c y/z + d.
   double n = 0, sx = 0, sxx = 0, su = 0, sxu = 0, sy = 0, syy = 0, sv = 0, syv = 0;
   const int step = cloud.size () > 20000 ? 3 : 1;
@@ -46,15 +46,15 @@ estimatePinholeCamera (const pcl::PointCloud<PointT> &cloud)
   if (n < 16 || !(dx > 0) || !(dy > 0))
   {
     std::ostringstream msg;
-    msg << "estimatePinholeCamera: cannot recover intrinsics from " << n
+    msg << "estimatePinholeModel: cannot recover intrinsics from " << n
         << " valid points; set the camera explicitly";
     throw pcl::BadArgumentException (msg.str ());
   }
   const double fx = (n * sxu - sx * su) / dx, cx = (su - fx * sx) / n;
   const double fy = (n * syv - sy * sv) / dy, cy = (sv - fy * sy) / n;
   if (!(fx > 0) || !(fy > 0))
-    throw pcl::BadArgumentException ("estimatePinholeCamera: the cloud's points do not follow a pinhole projection; set the camera explicitly");
-  return PinholeCamera (fx, fy, cx, cy);
+    throw pcl::BadArgumentException ("estimatePinholeModel: the cloud's points do not follow a pinhole projection; set the camera explicitly");
+  return PinholeModel (fx, fy, cx, cy);
 }
 
 } // namespace texlet

@@ -1,9 +1,11 @@
 /*
  * pcl_texlet: camera models, how depth pixels relate to rays.
  *
- * TexletEstimation and the apps use a camera model through this interface: to place a pixel
- * relative to the principal point (the noise model's r) and to turn a depth pixel into a
- * 3D point. Depth z is measured along the optical axis, so a point is ray(u, v) * z.
+ * TexletEstimation, the simulator and the apps use a camera model through this interface: to
+ * turn a depth pixel into a 3D point, to project a point into the image, and to place a pixel
+ * relative to the principal point (the noise model's r). Depth z is measured along the optical
+ * axis, so the point of pixel (u, v) at depth z is (x z, y z, z) with (x, y) = pixelToRay(u, v).
+ * The camera frame is PCL's: x right, y down, z forward.
  */
 #pragma once
 
@@ -30,38 +32,13 @@ public:
   virtual void
   pixelToRay (double u, double v, double &x, double &y) const = 0;
 
+  /** \brief Pixel (u, v) of the point (X, Y, Z), Z > 0. */
+  virtual void
+  project (double X, double Y, double Z, double &u, double &v) const = 0;
+
   /** \brief Distance of pixel (u, v) from the principal point, pixels. */
   virtual double
   principalPointDistance (double u, double v) const = 0;
-};
-
-/** \brief Ideal pinhole: focal lengths and principal point in pixels, no distortion. */
-class PinholeCamera : public CameraModel
-{
-public:
-  /** \throws pcl::BadArgumentException unless fx, fy > 0 and all values finite. */
-  PinholeCamera (double fx, double fy, double cx, double cy);
-
-  std::string
-  name () const override { return "pinhole"; }
-
-  void
-  pixelToRay (double u, double v, double &x, double &y) const override
-  {
-    x = (u - cx_) / fx_;
-    y = (v - cy_) / fy_;
-  }
-
-  double
-  principalPointDistance (double u, double v) const override;
-
-  double fx () const { return fx_; }
-  double fy () const { return fy_; }
-  double cx () const { return cx_; }
-  double cy () const { return cy_; }
-
-private:
-  double fx_, fy_, cx_, cy_;
 };
 
 } // namespace texlet

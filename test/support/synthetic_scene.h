@@ -5,7 +5,7 @@
  */
 #pragma once
 
-#include <pcl_texlet/camera_model.h>
+#include <pcl_texlet/pinhole_model.h>
 #include <pcl_texlet/noise_model.h>
 
 #include <pcl/point_cloud.h>
@@ -155,8 +155,8 @@ struct CameraSpec
   int width = 160, height = 120;
   double fx = 525.0 / 4, fy = 525.0 / 4, cx = 79.5, cy = 59.5;
 
-  pcl::texlet::PinholeCamera
-  pinhole () const { return pcl::texlet::PinholeCamera (fx, fy, cx, cy); }
+  pcl::texlet::PinholeModel
+  pinhole () const { return pcl::texlet::PinholeModel (fx, fy, cx, cy); }
 };
 
 /** Ray-casts `scene`; adds depth noise of the model's sigma along each ray when `noise` is set. */
@@ -172,7 +172,7 @@ render (const Scene &scene, const CameraSpec &cam, const pcl::texlet::NoiseModel
   out.normals.assign (out.cloud.size (), Eigen::Vector3d::Zero ());
   std::mt19937 rng (seed);
   std::normal_distribution<double> gauss (0.0, 1.0);
-  const pcl::texlet::PinholeCamera pin = cam.pinhole ();
+  const pcl::texlet::PinholeModel pin = cam.pinhole ();
   for (int v = 0; v < cam.height; ++v)
     for (int u = 0; u < cam.width; ++u)
     {

@@ -373,7 +373,7 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
 
   texlet::CameraModel::ConstPtr camera = camera_;
   if (!camera)
-    camera = std::make_shared<texlet::PinholeCamera> (texlet::estimatePinholeCamera (cloud));
+    camera = std::make_shared<texlet::PinholeModel> (texlet::estimatePinholeModel (cloud));
 
   // Per-pixel depth SD, once per frame: pixels are shared by the overlapping discs.
   const bool need_sigma = params_.uncertainty != texlet::UncertaintyMethod::None;
