@@ -5,6 +5,7 @@
  */
 #include <pcl_texlet/kernels/hex_grid.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
+#include <pcl_texlet/kernels/plumb_bob.h>
 #include <pcl_texlet/kernels/texlet_kernel.h>
 
 using namespace pcl::texlet::kernels;
@@ -17,7 +18,9 @@ texletKernelCompileCheck (Neighbourhood<S> nb, TexletSettings<S> st, unsigned ch
   const HexGrid g = makeHexGrid (640, 480, 6);
   int u, v;
   hexCentre (g, threadIdx.x, u, v);
-  centres[threadIdx.x] = v * 640 + u + pixelDiscSize (6);
+  double x, y;
+  undistortPlumbBob (PlumbBob{0.1, -0.2, 0.001, 0.001, 0.05}, 0.01 * u, 0.01 * v, x, y);
+  centres[threadIdx.x] = v * 640 + u + pixelDiscSize (6) + static_cast<int> (x + y);
   computeTexlet (nb, st, threadIdx.x, mask, work, out[threadIdx.x]);
 }
 
