@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev
   gnuplot-nox
+  xvfb xauth libgl1-mesa-dri
 )
 
 # Skip apt entirely when everything is already there (fast re-runs in CI).

@@ -1,0 +1,189 @@
+/*
+ * pcl_texlet_viewer --screenshot under Xvfb: the image shows the scene and the texlets (their
+ * exact mean colours), and bad input exits 2 with one line and no image.
+ */
+#include <pcl_texlet/recording.h>
+#include <pcl_texlet/texlet_estimation.h>
+
+#include <pcl/io/pcd_io.h>
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace
+{
+
+const std::string kFrame = std::string (DATA_DIR) + "/kinect/grabber_sequence/pcd/frame_20121214T142255.814212.pcd";
+
+struct Image
+{
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;
+
+  /** Pixels away from the two text overlays (status at the top, PCL's FPS counter at the bottom). */
+  template <typename F> void
+  forEachScenePixel (F &&f) const
+  {
+    for (int v = 40; v < height - 30; ++v)
+      for (int u = 0; u < width; ++u)
+      {
+        const std::uint8_t *p = &rgb[3 * (static_cast<std::size_t> (v) * width + u)];
+        f (p[0], p[1], p[2]);
+      }
+  }
+};
+
+class Viewer : public ::testing::Test
+{
+protected:
+  fs::path dir = fs::temp_directory_path () /
+                 ("pcl_texlet_viewer_" + std::to_string (::getpid ()) + "_" +
+                  ::testing::UnitTest::GetInstance ()->current_test_info ()->name ());
+
+  void
+  SetUp () override
+  {
+    if (std::string (XVFB_RUN).empty ())
+      GTEST_SKIP () << "xvfb-run is not installed: no X server for the viewer";
+    fs::create_directories (dir);
+  }
+  void TearDown () override { fs::remove_all (dir); }
+
+  int
+  run (const std::string &args, std::string *err = nullptr)
+  {
+    const std::string cmd = std::string (XVFB_RUN) + " -a -s '-screen 0 1280x1024x24' " + VIEWER_APP + " " + args +
+                            " > " + (dir / "out").string () + " 2> " + (dir / "err").string ();
+    const int status = std::system (cmd.c_str ());
+    if (err)
+    {
+      std::ifstream f (dir / "err");
+      std::stringstream s;
+      s << f.rdbuf ();
+      *err = s.str ();
+    }
+    return WIFEXITED (status) ? WEXITSTATUS (status) : -1;
+  }
+
+  Image
+  screenshot (const std::string &args)
+  {
+    const fs::path png = dir / "shot.png";
+    fs::remove (png);
+    std::string err;
+    const int rc = run (args + " --size 640 --screenshot " + png.string (), &err);
+    EXPECT_EQ (rc, 0) << err;
+    Image img;
+    if (rc == 0)
+      img.rgb = pcl::texlet::readRgbPng (png.string (), img.width, img.height);
+    return img;
+  }
+};
+
+double
+litFraction (const Image &img)
+{
+  std::size_t lit = 0, all = 0;
+  img.forEachScenePixel ([&] (int r, int g, int b) {
+    lit += (r + g + b > 30) ? 1 : 0;
+    ++all;
+  });
+  return all ? static_cast<double> (lit) / all : 0.0;
+}
+
+} // namespace
+
+TEST_F (Viewer, ScreenshotShowsTheSceneAndTheTexlets)
+{
+  const Image cloud = screenshot (kFrame + " --layers cloud -u none");
+  ASSERT_EQ (cloud.width, 640);
+  ASSERT_EQ (cloud.height, 480);
+  EXPECT_GT (litFraction (cloud), 0.5) << "the real frame fills most of the sensor's view";
+
+  // Texlets alone, from a texlet file made by the library: their exact colours must show
+  // (the discs are drawn unlit).
+  pcl::PointCloud<pcl::PointXYZRGBA>::Ptr frame (new pcl::PointCloud<pcl::PointXYZRGBA>);
+  ASSERT_EQ (pcl::io::loadPCDFile (kFrame, *frame), 0);
+  pcl::TexletEstimation<pcl::PointXYZRGBA> est;
+  est.setInputCloud (frame);
+  est.setUncertaintyMethod (pcl::texlet::UncertaintyMethod::None);
+  pcl::PointCloud<pcl::Texlet> texlets;
+  est.compute (texlets);
+  const fs::path file = dir / "texlets.pcd";
+  ASSERT_EQ (pcl::io::savePCDFileBinary (file.string (), texlets), 0);
+  std::set<std::uint32_t> colours;
+  for (const auto &t : texlets)
+    if (std::isfinite (t.x))
+      colours.insert ((std::uint32_t (t.r) << 16) | (std::uint32_t (t.g) << 8) | t.b);
+
+  const Image discs = screenshot (file.string () + " --layers texlets");
+  std::size_t lit = 0, exact = 0;
+  discs.forEachScenePixel ([&] (int r, int g, int b) {
+    if (r + g + b == 0)
+      return;
+    ++lit;
+    exact += colours.count ((std::uint32_t (r) << 16) | (std::uint32_t (g) << 8) | std::uint32_t (b));
+  });
+  EXPECT_GT (litFraction (discs), 0.3);
+  EXPECT_GT (static_cast<double> (exact) / lit, 0.8) << exact << " of " << lit << " lit pixels have a texlet's colour";
+
+  // Both layers together differ from the cloud alone.
+  const Image both = screenshot (kFrame + " --layers cloud,texlets,normals,sigma_p,sigma_n -u analytic");
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < both.rgb.size () && i < cloud.rgb.size (); ++i)
+    differ += both.rgb[i] != cloud.rgb[i] ? 1 : 0;
+  EXPECT_GT (differ, both.rgb.size () / 10);
+}
+
+TEST_F (Viewer, RecordingFolderAndPcdFolder)
+{
+  // A recording folder of a tilted wall (grey: no rgb frames).
+  const fs::path rec = dir / "rec";
+  fs::create_directories (rec / "depth");
+  pcl::texlet::CameraInfo info;
+  info.width = 160;
+  info.height = 120;
+  const double K[9] = {130, 0, 79.5, 0, 130, 59.5, 0, 0, 1};
+  std::copy (K, K + 9, info.K);
+  pcl::texlet::saveCameraInfoYaml ((rec / "camera.yaml").string (), info);
+  std::vector<std::uint16_t> depth (160 * 120);
+  for (int v = 0; v < 120; ++v)
+    for (int u = 0; u < 160; ++u)
+      depth[v * 160 + u] = static_cast<std::uint16_t> (900 + 2 * u + v);
+  pcl::texlet::writeDepthPng ((rec / "depth" / "000000.png").string (), depth.data (), 160, 120);
+  EXPECT_GT (litFraction (screenshot (rec.string () + " --layers texlets --spacing 4")), 0.3);
+  EXPECT_GT (litFraction (screenshot (fs::path (kFrame).parent_path ().string () + " --layers cloud -u none")), 0.5);
+}
+
+TEST_F (Viewer, BadInputExitsTwoWithOneLineAndNoImage)
+{
+  const fs::path png = dir / "shot.png";
+  pcl::PointCloud<pcl::PointXYZ> flat;
+  flat.resize (100, pcl::PointXYZ (0, 0, 1));
+  pcl::io::savePCDFileBinary ((dir / "flat.pcd").string (), flat);
+  for (const auto &[args, needle] : std::vector<std::pair<std::string, std::string>>{
+           {(dir / "missing.pcd").string (), "missing.pcd"},
+           {(dir / "flat.pcd").string (), "not an organised"},
+           {kFrame + " --layers cloud,sparkles", "sparkles"},
+           {kFrame + " --spacing 0", "spacing"},
+           {kFrame + " --fit ransac", "ransac"},
+           {(dir / "nowhere").string () + "/x.oni", "does not exist"}})
+  {
+    std::string err;
+    EXPECT_EQ (run (args + " --screenshot " + png.string (), &err), 2) << args;
+    EXPECT_EQ (std::count (err.begin (), err.end (), '\n'), 1) << err;
+    EXPECT_NE (err.find (needle), std::string::npos) << err;
+    EXPECT_FALSE (fs::exists (png));
+  }
+  std::string err;
+  EXPECT_EQ (run (kFrame + " --screenshot " + (dir / "no" / "dir" / "shot.png").string (), &err), 2);
+  EXPECT_NE (err.find ("does not exist"), std::string::npos) << err;
+}
