@@ -163,6 +163,17 @@ TEST_F (Viewer, RecordingFolderAndPcdFolder)
   EXPECT_GT (litFraction (screenshot (fs::path (kFrame).parent_path ().string () + " --layers cloud -u none")), 0.5);
 }
 
+TEST_F (Viewer, WithoutInputOrSensorItPlaysTheBundledFrames)
+{
+  // No OpenNI2 device is connected on a test machine: the viewer falls back to data/kinect.
+  const Image img = screenshot ("-u none");
+  EXPECT_GT (litFraction (img), 0.5);
+  std::ifstream out (dir / "out");
+  std::stringstream s;
+  s << out.rdbuf ();
+  EXPECT_NE (s.str ().find ("frame_20121214T142255.814212.pcd"), std::string::npos) << s.str ();
+}
+
 TEST_F (Viewer, BadInputExitsTwoWithOneLineAndNoImage)
 {
   const fs::path png = dir / "shot.png";
