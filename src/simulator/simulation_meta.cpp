@@ -67,7 +67,7 @@ simulationMetaYaml (const SceneSetup &setup, const KinectSimulator &simulator, s
   out << YAML::Key << "sensor_pose" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c)
-      out << number (s.pose.matrix () (r, c));
+      out << number (s.pose.matrix () (r, c) + 0.0); // + 0.0: no "-0"
   out << YAML::EndSeq;
   out << YAML::Key << "render_camera" << YAML::Value << YAML::Flow << YAML::BeginMap;
   out << YAML::Key << "fx" << YAML::Value << number (s.fx) << YAML::Key << "fy" << YAML::Value << number (s.fy);
