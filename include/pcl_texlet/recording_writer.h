@@ -17,6 +17,9 @@ namespace pcl
 namespace texlet
 {
 
+/** \brief Writes one recording folder: camera.yaml at construction, depth frames and
+  * meta.yaml as they come, everything visible under the destination only after commit ().
+  */
 class RecordingFolderWriter
 {
 public:
@@ -53,6 +56,7 @@ public:
   void
   commit ();
 
+  /** \brief The destination. */
   const std::string &
   folder () const { return folder_; }
 

@@ -71,6 +71,7 @@ public:
   int
   numberOfThreads () const;
 
+  /** \brief Number of sensors in the setup (recorded or not). */
   std::size_t
   sensorCount () const { return sensors_.size (); }
 
@@ -78,9 +79,11 @@ public:
   const DepthSensor &
   sensor (std::size_t index) const;
 
+  /** \brief Noise, effects and seed the frames are made with. */
   const SimulationSettings &
   settings () const { return settings_; }
 
+  /** \brief The scene the sensors look at. */
   const Scene &
   scene () const { return *scene_; }
 
@@ -88,6 +91,7 @@ public:
   int
   activeProjectors () const;
 
+  /** \brief Noise-free geometry and the static noise maps of sensor \a index. */
   const SensorTruth &
   truth (std::size_t index) const;
 

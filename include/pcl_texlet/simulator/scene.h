@@ -63,9 +63,11 @@ public:
   intersect (const Eigen::Vector3d &origin, const Eigen::Vector3d &direction, double t_min,
              SurfaceHit &hit) const override;
 
+  /** \brief Unit normal. */
   const Eigen::Vector3d &
   normal () const { return normal_; }
 
+  /** \brief normal . p for the points p of the plane. */
   double
   offset () const { return offset_; }
 
@@ -133,6 +135,7 @@ public:
   intersect (const Eigen::Vector3d &origin, const Eigen::Vector3d &direction, double t_min,
              SurfaceHit &hit) const override;
 
+  /** \brief Edge lengths along the box's own x, y, z axes. */
   const Eigen::Vector3d &
   size () const { return size_; }
 
@@ -152,6 +155,7 @@ public:
   Scene &
   add (const Surface::ConstPtr &surface);
 
+  /** \brief The surfaces in the order they were added (SurfaceHit::surface indexes them). */
   const std::vector<Surface::ConstPtr> &
   surfaces () const { return surfaces_; }
 

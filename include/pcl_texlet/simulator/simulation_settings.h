@@ -23,7 +23,9 @@ struct SimulationSettings
     */
   bool base_noise = true;
 
-  /** \brief The base noise; by default the paper's polynomial f(r, d) (Eq. 4). */
+  /** \brief The base noise; by default the paper's polynomial f(r, d) (Eq. 4), fitted for
+    * 0.7-1.75 m and extrapolated beyond.
+    */
   NoiseModel noise_model = NoiseModel::paper ();
 
   /** \brief The switchable physical effects (all off by default). */

@@ -49,6 +49,7 @@ public:
   TriangleMeshSurface
   transformed (const Eigen::Isometry3d &transform) const;
 
+  /** \brief Triangles kept (degenerate ones dropped). */
   std::size_t
   triangleCount () const { return triangles_.size (); }
 
