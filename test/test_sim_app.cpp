@@ -157,6 +157,25 @@ TEST_F (SimApp, BoxWithThreeProjectorsRecordsEverySensor)
   EXPECT_EQ (leftovers (), std::vector<std::string> ({"box"}));
 }
 
+TEST_F (SimApp, PosesPlaceTheSensors)
+{
+  const std::string identity = " --pose 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1";
+  const std::string aside = " --pose 1 0 0 0.2 0 1 0 0 0 0 1 0 0 0 0 1";
+  const Result r = run ("--frames 1 --width 160 --height 120 --record all" + identity + aside + " " +
+                        (dir / "rec").string ());
+  ASSERT_EQ (r.code, 0) << r.err;
+  const std::string meta = slurp (dir / "rec" / "sensor_1" / "meta.yaml");
+  EXPECT_NE (meta.find ("sensor_pose: [1, 0, 0, 0.2, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]"), std::string::npos) << meta;
+  EXPECT_NE (meta.find ("projectors: 2"), std::string::npos) << meta;
+  // A frontal wall seen from 20 cm to the side: the same depths, shifted in the image.
+  pcl::texlet::RecordingFolderReader a ((dir / "rec" / "sensor_0").string ()), b ((dir / "rec" / "sensor_1").string ());
+  pcl::texlet::DepthFrame fa, fb;
+  ASSERT_TRUE (a.next (fa));
+  ASSERT_TRUE (b.next (fb));
+  EXPECT_NEAR (fa.depth_mm[60 * 160 + 80], 1500, 10);
+  EXPECT_NEAR (fb.depth_mm[60 * 160 + 80], 1500, 10);
+}
+
 TEST_F (SimApp, ConfigFileThenEffectsThenSettings)
 {
   std::ofstream (dir / "effects.yaml") << "base_noise: none\neffects:\n  temporal_drift: {amplitude_px: 0.3}\n"
@@ -220,6 +239,8 @@ TEST_F (SimApp, BadInputIsRejectedWithOneLineAndLeavesNothing)
   expectRejected ("--config " + (dir / "none.yaml").string () + " " + out, "none.yaml': does not exist");
   std::ofstream (dir / "bad.yaml") << "effects: {radial: {gian: 1}}\n";
   expectRejected ("--config " + (dir / "bad.yaml").string () + " " + out, "has no parameter 'gian'");
+  expectRejected ("--pose 1 0 0 0 0 2 0 0 0 0 1 0 0 0 0 1 " + out, "the pose must be a finite rigid transform");
+  expectRejected ("--projectors 2 --pose 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 " + out, "disagrees with the 1 --pose");
   expectRejected ("", "OUTPUT is required");
   expectRejected ((dir / "no" / "such" / "out").string (), "does not exist");
   fs::create_directories (dir / "taken");

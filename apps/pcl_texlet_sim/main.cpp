@@ -19,6 +19,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -63,6 +64,7 @@ struct Options
   unsigned frames = 30;
   std::uint32_t seed = 0;
   std::vector<std::string> effects, assignments;
+  std::vector<double> poses; ///< 16 numbers per --pose
   std::string config, base_noise;
   bool no_shadows = false;
   int width = 640, height = 480;
@@ -114,6 +116,28 @@ makeSetup (const Options &o, const CLI::App &app)
   const TriangleMeshSurface mesh = loadTriangleMesh (o.mesh, o.mesh_scale);
   return meshSetup (mesh, std::isnan (o.distance) ? 1.5 : o.distance, o.tilt_x, o.tilt_y, o.projectors, 0.3,
                     fs::absolute (o.mesh).string ());
+}
+
+/** Sensors placed by --pose (16 numbers each, row-major, scene from camera) instead of the
+  * scene's own placement.
+  */
+void
+placeSensors (const Options &o, SceneSetup &setup)
+{
+  if (o.poses.empty ())
+    return;
+  setup.sensor_poses.clear ();
+  // The scene's own spacing of sensors no longer describes where they stand.
+  setup.parameters.erase (std::remove_if (setup.parameters.begin (), setup.parameters.end (),
+                                          [] (const auto &p) { return p.first == "sensor_spacing_m"; }),
+                          setup.parameters.end ());
+  for (std::size_t k = 0; k + 16 <= o.poses.size (); k += 16)
+  {
+    Eigen::Matrix4d m;
+    for (int i = 0; i < 16; ++i)
+      m (i / 4, i % 4) = o.poses[k + i];
+    setup.sensor_poses.emplace_back (m);
+  }
 }
 
 SimulationSettings
@@ -199,6 +223,12 @@ run (int argc, char **argv)
   app.add_option ("--projectors", o.projectors,
                   "sensors in the setup, all with active projectors (box: the paper's triangle for up to 3)")
       ->capture_default_str ();
+  app.add_option ("--pose", o.poses,
+                  "a sensor's pose, 16 numbers row-major (scene from camera; x right, y down, z forward), "
+                  "repeatable: replaces the scene's placement, one sensor per pose")
+      ->expected (16)
+      ->allow_extra_args (false)
+      ->take_all ();
   app.add_option ("--record", o.record, "which sensor to record: an index, or 'all'")->capture_default_str ();
   app.add_option ("--frames", o.frames, "frames to simulate")->capture_default_str ();
   app.add_option ("--seed", o.seed, "random seed (same seed, same bytes)")->capture_default_str ();
@@ -248,6 +278,14 @@ run (int argc, char **argv)
     throw InputError ("--frames must be between 1 and 1000000 (got " + std::to_string (o.frames) + ")");
   if (o.projectors < 1 || o.projectors > 64)
     throw InputError ("--projectors must be between 1 and 64 (got " + std::to_string (o.projectors) + ")");
+  if (!o.poses.empty ())
+  {
+    const int n = static_cast<int> (o.poses.size () / 16);
+    if (app.count ("--projectors") && o.projectors != n)
+      throw InputError ("--projectors " + std::to_string (o.projectors) + " disagrees with the " + std::to_string (n) +
+                        " --pose options (each pose is one sensor with its projector)");
+    o.projectors = n;
+  }
   if (o.threads > 1024)
     throw InputError ("--threads " + std::to_string (o.threads) + " is not a sensible thread count");
   int record = -1; // all
@@ -276,7 +314,8 @@ run (int argc, char **argv)
 
   try
   {
-    const SceneSetup setup = makeSetup (o, app);
+    SceneSetup setup = makeSetup (o, app);
+    placeSensors (o, setup);
     const SimulationSettings settings = makeSettings (o, app);
     const DepthSensor model = makeSensor (o);
     const auto t0 = std::chrono::steady_clock::now ();
