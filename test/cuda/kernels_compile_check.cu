@@ -3,9 +3,12 @@
  * unchanged, so the CUDA backend can run it. Built whenever CUDA is found (CI has nvcc but no
  * GPU, so this is a compile check; the GPU tests of the CUDA backend run it).
  */
+#include <pcl_texlet/kernels/depth_sensor.h>
 #include <pcl_texlet/kernels/hex_grid.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/kernels/plumb_bob.h>
+#include <pcl_texlet/kernels/ray_cast.h>
+#include <pcl_texlet/kernels/sensor_effects.h>
 #include <pcl_texlet/kernels/texlet_kernel.h>
 
 using namespace pcl::texlet::kernels;
@@ -28,3 +31,32 @@ template __global__ void texletKernelCompileCheck<float> (Neighbourhood<float>, 
                                                           float *, TexletResult<float> *, int *);
 template __global__ void texletKernelCompileCheck<double> (Neighbourhood<double>, TexletSettings<double>,
                                                            unsigned char *, double *, TexletResult<double> *, int *);
+
+/** The simulator's per-pixel path: ray casting through a BVH, the effects' terms, one frame. */
+__global__ void
+simulatorKernelCompileCheck (SensorPixelMaps maps, SensorFrameSettings frame, const BvhNode<double> *nodes,
+                             const Triangle<double> *triangles, VerticalStripes stripes, DepthDistortion distortion,
+                             Radial radial, IncidenceAngle incidence, Interference interference, TemporalDrift drift,
+                             Intrinsics intrinsics, float *columns, double *values, std::uint16_t *depth)
+{
+  const int u = threadIdx.x, v = blockIdx.x;
+  const Vec3<double> origin = {0, 0, 0}, direction = {(u - 319.5) / 580.0, (v - 239.5) / 580.0, 1.0};
+  double t = 1e30;
+  std::int32_t triangle = -1;
+  rayBvh (nodes, triangles, origin, direction, 1e-9, t, triangle);
+  double box_t, sign;
+  int axis;
+  const Vec3<double> lo = {-1, -1, 1}, hi = {1, 1, 2};
+  rayBoxEntry (origin, direction, lo, hi, box_t, axis, sign);
+  if (u == 0)
+    stripeColumnOffsets (stripes, 1u, 0u, frame.frame, maps.width, columns);
+  double fx = 580, fy = 580, cx = 319.5, cy = 239.5;
+  labelledIntrinsics (intrinsics, fx, fy, cx, cy);
+  values[v * maps.width + u] = t + box_t + distortionOffset (distortion, 1u, 0u, u, v, cx, cy, 400.0) *
+                                               radialFactor (radial, 100.0) * incidenceFactor (incidence, 0.5) *
+                                               interferenceFactor (interference, 1.0) +
+                               interferenceDropout (interference, 1.0) + driftOffset (drift, frame.frame) +
+                               quantiseDisparity (depthStep (1.5, 0.125, 43.5), 0.125) +
+                               (incidenceTooOblique (incidence, 0.1) ? 1.0 : 0.0);
+  depth[v * maps.width + u] = simulateDepthPixel (maps, frame, u, v);
+}

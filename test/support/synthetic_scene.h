@@ -1,11 +1,13 @@
 /*
  * Test support: organised clouds rendered by ray casting analytic scenes (planes, spheres,
  * boxes) through a pinhole camera, with depth noise from a NoiseModel added along each ray.
- * Ground truth (noise-free points and surface normals) comes with every render.
+ * Ground truth (noise-free points and surface normals) comes with every render. The ray
+ * intersections are the library's kernels (kernels/ray_cast.h), which the simulator uses too.
  */
 #pragma once
 
 #include <pcl_texlet/pinhole_model.h>
+#include <pcl_texlet/kernels/ray_cast.h>
 #include <pcl_texlet/noise_model.h>
 
 #include <pcl/point_cloud.h>
@@ -29,6 +31,15 @@ struct Hit
   Eigen::Vector3d normal = Eigen::Vector3d::Zero ();
 };
 
+inline pcl::texlet::kernels::Vec3<double>
+vec3 (const Eigen::Vector3d &v)
+{
+  return {v.x (), v.y (), v.z ()};
+}
+
+/** Rays start at the camera centre. */
+const pcl::texlet::kernels::Vec3<double> kOrigin = {0.0, 0.0, 0.0};
+
 struct Surface
 {
   virtual ~Surface () = default;
@@ -49,10 +60,9 @@ struct PlaneSurface : Surface
   void
   intersect (const Eigen::Vector3d &r, Hit &hit) const override
   {
-    const double den = n.dot (r);
-    if (std::fabs (den) < 1e-12)
+    double t;
+    if (!pcl::texlet::kernels::rayPlane (kOrigin, vec3 (r), vec3 (n), d, t))
       return;
-    const double t = d / den;
     if (t <= 0 || t >= hit.t)
       return;
     if (side.squaredNorm () > 0 && side.dot (t * r) <= side_offset)
@@ -72,11 +82,9 @@ struct SphereSurface : Surface
   void
   intersect (const Eigen::Vector3d &r, Hit &hit) const override
   {
-    const double a = r.squaredNorm (), b = -2.0 * r.dot (c), cc = c.squaredNorm () - radius * radius;
-    const double disc = b * b - 4 * a * cc;
-    if (disc < 0)
+    double t;
+    if (!pcl::texlet::kernels::raySphere (kOrigin, vec3 (r), vec3 (c), radius, t))
       return;
-    const double t = (-b - std::sqrt (disc)) / (2 * a);
     if (t <= 0 || t >= hit.t)
       return;
     hit.t = t;
@@ -94,35 +102,11 @@ struct BoxSurface : Surface
   void
   intersect (const Eigen::Vector3d &r, Hit &hit) const override
   {
-    double tmin = 0, tmax = std::numeric_limits<double>::infinity ();
-    int axis = -1;
-    double sign = 0;
-    for (int i = 0; i < 3; ++i)
-    {
-      if (std::fabs (r[i]) < 1e-15)
-      {
-        if (0 < lo[i] || 0 > hi[i])
-          return;
-        continue;
-      }
-      double t0 = lo[i] / r[i], t1 = hi[i] / r[i];
-      double s = -1;
-      if (t0 > t1)
-      {
-        std::swap (t0, t1);
-        s = 1;
-      }
-      if (t0 > tmin)
-      {
-        tmin = t0;
-        axis = i;
-        sign = s;
-      }
-      tmax = std::min (tmax, t1);
-      if (tmin > tmax)
-        return;
-    }
-    if (axis < 0 || tmin <= 0 || tmin >= hit.t)
+    double tmin, sign;
+    int axis;
+    if (!pcl::texlet::kernels::rayBoxEntry (kOrigin, vec3 (r), vec3 (lo), vec3 (hi), tmin, axis, sign))
+      return;
+    if (tmin <= 0 || tmin >= hit.t)
       return;
     hit.t = tmin;
     hit.normal = Eigen::Vector3d::Zero ();

@@ -21,8 +21,13 @@ namespace kernels
 /** \brief Independent random streams, told apart by the last counter word. */
 enum class RandomStream : std::uint32_t
 {
-  Ransac = 0x52414e53u,    // "RANS"
-  MonteCarlo = 0x4d434d43u // "MCMC"
+  Ransac = 0x52414e53u,        // "RANS"
+  MonteCarlo = 0x4d434d43u,    // "MCMC"
+  SensorNoise = 0x534e4f49u,   // "SNOI": the simulator's per-pixel disparity noise
+  SensorDropout = 0x53445250u, // "SDRP": the simulator's holes (interference)
+  LateralJitter = 0x4c4a4954u, // "LJIT": the simulator's edge jitter
+  Stripes = 0x53545250u,       // "STRP": the simulator's vertical stripe layouts
+  Distortion = 0x44495354u     // "DIST": the simulator's static distortion map
 };
 
 /** \brief Four independent 32-bit words for (seed, texlet, counter, block, stream). */
@@ -57,6 +62,13 @@ distinctTriple (const r123::Philox4x32::ctr_type &w, int n, int &a, int &b, int 
     ++c;
   if (c >= hi)
     ++c;
+}
+
+/** \brief A uniform draw in [0, 1) from a 32-bit word (its top 24 bits, exact in float). */
+PCL_TEXLET_HD float
+uniformFloat (std::uint32_t word)
+{
+  return static_cast<float> (word >> 8) * (1.0f / 16777216.0f);
 }
 
 /** \brief Four standard normal draws (Box-Muller on Philox words). */

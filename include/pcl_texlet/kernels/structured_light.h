@@ -1,0 +1,89 @@
+/*
+ * pcl_texlet kernels: structured-light triangulation (Kinect v1 class sensors).
+ *
+ * The sensor matches the projected dot pattern in its IR image; the shift of a dot against the
+ * reference is the disparity d (pixels) and depth follows by triangulation, z = f b / d, with f
+ * the IR camera's focal length (pixels) and b the projector-camera baseline (metres). Noise and
+ * quantisation happen in disparity, which is why depth noise grows with z^2 and depth steps
+ * with z^2 / (f b).
+ */
+#pragma once
+
+#include <pcl_texlet/kernels/config.h>
+
+#include <cmath>
+#include <cstdint>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace kernels
+{
+
+/** \brief Disparity in pixels of depth \a z_m (metres): f b / z. \a fb = f (px) * b (m). */
+PCL_TEXLET_HD double
+disparityFromDepth (double z_m, double fb)
+{
+  return fb / z_m;
+}
+
+/** \brief Depth in metres of disparity \a d_px: f b / d. */
+PCL_TEXLET_HD double
+depthFromDisparity (double d_px, double fb)
+{
+  return fb / d_px;
+}
+
+/** \brief Disparity SD (px) equivalent to a depth SD \a sigma_z_m at depth \a z_m: first-order
+  * propagation through d = f b / z, |dd/dz| = f b / z^2.
+  */
+PCL_TEXLET_HD double
+disparitySigmaFromDepthSigma (double sigma_z_m, double z_m, double fb)
+{
+  return sigma_z_m * fb / (z_m * z_m);
+}
+
+/** \brief Depth SD (m) of a disparity SD \a sigma_d_px at depth \a z_m: sigma_d z^2 / (f b). */
+PCL_TEXLET_HD double
+depthSigmaFromDisparitySigma (double sigma_d_px, double z_m, double fb)
+{
+  return sigma_d_px * z_m * z_m / fb;
+}
+
+/** \brief Disparity rounded to the nearest multiple of \a step_px (the sensor reports integer
+  * multiples of a sub-pixel step: 1/8 px on the Kinect v1).
+  */
+PCL_TEXLET_HD double
+quantiseDisparity (double d_px, double step_px)
+{
+  return step_px * std::floor (d_px / step_px + 0.5);
+}
+
+/** \brief Depth step (m) between neighbouring quantised disparities at depth \a z_m:
+  * z^2 step / (f b) to first order.
+  */
+PCL_TEXLET_HD double
+depthStep (double z_m, double step_px, double fb)
+{
+  return z_m * z_m * step_px / fb;
+}
+
+/** \brief The depth the sensor reports for disparity \a d_px: f b / d rounded to whole
+  * millimetres, 0 (no reading) for a non-positive disparity or a depth outside
+  * [min_depth_m, max_depth_m]. max_depth_m must not exceed 65.535 m (16-bit millimetres).
+  */
+PCL_TEXLET_HD std::uint16_t
+reportedDepthMm (double d_px, double fb, double min_depth_m, double max_depth_m)
+{
+  if (!(d_px > 0))
+    return 0;
+  const double z = fb / d_px;
+  if (z < min_depth_m || z > max_depth_m)
+    return 0;
+  return static_cast<std::uint16_t> (std::floor (z * 1000.0 + 0.5));
+}
+
+} // namespace kernels
+} // namespace texlet
+} // namespace pcl
