@@ -1,10 +1,12 @@
 /*
- * An OpenNI2 device driver that replays the 16-bit depth TIFFs of PCL's image grabber
- * (<folder>/*_depth.tiff, 640x480, millimetres) as a depth sensor, once each at 30 Hz, under the
- * URI "tiffreplay:<folder>".
+ * An OpenNI2 device driver that replays the frames of PCL's image grabber (<folder>/*_depth.tiff,
+ * 16-bit depth in mm, and the <stamp>_rgb.tiff beside any of them, 8-bit RGB; 640x480) as a
+ * depth sensor and a colour sensor, once each at 30 Hz, under the URI "tiffreplay:<folder>".
+ * Frame i (from 1) of either sensor has timestamp i * 33333 us; a colour frame exists only where
+ * the grabber wrote one.
  *
  * It exists to make a real .oni file here, where no sensor is attached: OpenNI2's own Recorder
- * records this device like any other. It reports the stream properties a sensor driver reports
+ * records this device like any other. Its streams report the properties a sensor driver reports
  * (video mode, cropping, mirroring, field of view, depth range), because OpenNI2's OniFile driver
  * plays back no frame of a recording that lacks the cropping property (the reason recordings of
  * OpenNI2's Dummy device play back nothing). The field of view is that of the 525 px focal length
@@ -21,13 +23,15 @@
 #include <tiffio.h>
 
 #include <algorithm>
-#include <deque>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <dirent.h>
+#include <unistd.h>
 #include <string>
 #include <thread>
 #include <vector>
@@ -39,55 +43,99 @@ const char *const kUriPrefix = "tiffreplay:";
 const int kWidth = 640;
 const int kHeight = 480;
 const double kFocalPx = 525.0;
+const std::uint64_t kFramePeriodUs = 33333;
 
-using Frames = std::vector<std::vector<std::uint16_t>>;
-
-/** The *_depth.tiff frames of \a folder in name order; a file that is not 640x480 16-bit grey ends the list. */
-Frames
-loadFrames (const std::string &folder)
+struct Frame
 {
-  std::vector<std::string> names;
+  int index = 0;              ///< from 1
+  std::uint64_t timestamp_us = 0;
+  std::vector<std::uint8_t> bytes; ///< row-major, as the video mode lays them out
+};
+
+struct Recording
+{
+  std::vector<Frame> depth;
+  std::vector<Frame> colour;
+};
+
+/** Reads a 640x480 strip TIFF of \a samples samples of \a bits bits into \a bytes; false if it is not one. */
+bool
+readTiff (const std::string &path, int bits, int samples, std::vector<std::uint8_t> &bytes)
+{
+  TIFF *tiff = TIFFOpen (path.c_str (), "r");
+  if (!tiff)
+    return false;
+  std::uint32_t width = 0, height = 0;
+  std::uint16_t file_bits = 0, file_samples = 0;
+  TIFFGetField (tiff, TIFFTAG_IMAGEWIDTH, &width);
+  TIFFGetField (tiff, TIFFTAG_IMAGELENGTH, &height);
+  TIFFGetFieldDefaulted (tiff, TIFFTAG_BITSPERSAMPLE, &file_bits);
+  TIFFGetFieldDefaulted (tiff, TIFFTAG_SAMPLESPERPIXEL, &file_samples);
+  const std::size_t row = std::size_t (kWidth) * samples * bits / 8;
+  bool ok = width == kWidth && height == kHeight && file_bits == bits && file_samples == samples &&
+            TIFFScanlineSize64 (tiff) == row;
+  bytes.assign (row * kHeight, 0);
+  for (std::uint32_t y = 0; ok && y < height; ++y)
+    ok = TIFFReadScanline (tiff, bytes.data () + y * row, y) == 1;
+  TIFFClose (tiff);
+  return ok;
+}
+
+/** The depth frames of \a folder in name order, each with its colour frame where there is one;
+  * the first file that cannot be read ends the recording.
+  */
+Recording
+loadRecording (const std::string &folder)
+{
+  const std::string suffix = "_depth.tiff";
+  std::vector<std::string> stems;
   if (DIR *dir = opendir (folder.c_str ()))
   {
-    const std::string suffix = "_depth.tiff";
     while (const dirent *entry = readdir (dir))
     {
       const std::string name = entry->d_name;
       if (name.size () > suffix.size () && name.compare (name.size () - suffix.size (), suffix.size (), suffix) == 0)
-        names.push_back (name);
+        stems.push_back (name.substr (0, name.size () - suffix.size ()));
     }
     closedir (dir);
   }
-  std::sort (names.begin (), names.end ());
-  Frames frames;
-  for (const std::string &name : names)
+  std::sort (stems.begin (), stems.end ());
+  Recording recording;
+  for (const std::string &stem : stems)
   {
-    TIFF *tiff = TIFFOpen ((folder + "/" + name).c_str (), "r");
-    if (!tiff)
+    Frame depth;
+    depth.index = static_cast<int> (recording.depth.size () + 1);
+    depth.timestamp_us = depth.index * kFramePeriodUs;
+    if (!readTiff (folder + "/" + stem + suffix, 16, 1, depth.bytes))
       break;
-    std::uint32_t width = 0, height = 0;
-    std::uint16_t bits = 0, samples = 0;
-    TIFFGetField (tiff, TIFFTAG_IMAGEWIDTH, &width);
-    TIFFGetField (tiff, TIFFTAG_IMAGELENGTH, &height);
-    TIFFGetFieldDefaulted (tiff, TIFFTAG_BITSPERSAMPLE, &bits);
-    TIFFGetFieldDefaulted (tiff, TIFFTAG_SAMPLESPERPIXEL, &samples);
-    bool ok = width == kWidth && height == kHeight && bits == 16 && samples == 1;
-    std::vector<std::uint16_t> depth (std::size_t (kWidth) * kHeight);
-    for (std::uint32_t y = 0; ok && y < height; ++y)
-      ok = TIFFReadScanline (tiff, depth.data () + std::size_t (y) * kWidth, y) == 1;
-    TIFFClose (tiff);
-    if (!ok)
-      break;
-    frames.push_back (std::move (depth));
+    Frame colour;
+    colour.index = depth.index;
+    colour.timestamp_us = depth.timestamp_us;
+    const std::string rgb = folder + "/" + stem + "_rgb.tiff";
+    if (access (rgb.c_str (), R_OK) == 0 && readTiff (rgb, 8, 3, colour.bytes))
+      recording.colour.push_back (std::move (colour));
+    recording.depth.push_back (std::move (depth));
   }
-  return frames;
+  return recording;
 }
 
-class DepthStream : public oni::driver::StreamBase
+OniVideoMode
+videoMode (OniSensorType sensor)
+{
+  OniVideoMode mode;
+  mode.pixelFormat = sensor == ONI_SENSOR_DEPTH ? ONI_PIXEL_FORMAT_DEPTH_1_MM : ONI_PIXEL_FORMAT_RGB888;
+  mode.resolutionX = kWidth;
+  mode.resolutionY = kHeight;
+  mode.fps = 30;
+  return mode;
+}
+
+/** One sensor's frames, each raised at its timestamp after start (). */
+class ReplayStream : public oni::driver::StreamBase
 {
 public:
-  explicit DepthStream (const Frames *frames) : frames_ (frames) {}
-  ~DepthStream () override { stop (); }
+  ReplayStream (OniSensorType sensor, const std::vector<Frame> *frames) : sensor_ (sensor), frames_ (frames) {}
+  ~ReplayStream () override { stop (); }
 
   OniStatus
   start () override
@@ -109,21 +157,23 @@ public:
   OniBool
   isPropertySupported (int id) override
   {
-    return id == ONI_STREAM_PROPERTY_VIDEO_MODE || id == ONI_STREAM_PROPERTY_CROPPING ||
+    const bool range = sensor_ == ONI_SENSOR_DEPTH && (id == ONI_STREAM_PROPERTY_MAX_VALUE || id == ONI_STREAM_PROPERTY_MIN_VALUE);
+    return range || id == ONI_STREAM_PROPERTY_VIDEO_MODE || id == ONI_STREAM_PROPERTY_CROPPING ||
            id == ONI_STREAM_PROPERTY_MIRRORING || id == ONI_STREAM_PROPERTY_HORIZONTAL_FOV ||
-           id == ONI_STREAM_PROPERTY_VERTICAL_FOV || id == ONI_STREAM_PROPERTY_MAX_VALUE ||
-           id == ONI_STREAM_PROPERTY_MIN_VALUE;
+           id == ONI_STREAM_PROPERTY_VERTICAL_FOV;
   }
 
   OniStatus
   getProperty (int id, void *data, int *size) override
   {
+    if (!isPropertySupported (id))
+      return ONI_STATUS_NOT_SUPPORTED;
     switch (id)
     {
       case ONI_STREAM_PROPERTY_VIDEO_MODE:
         if (*size != sizeof (OniVideoMode))
           return ONI_STATUS_BAD_PARAMETER;
-        *static_cast<OniVideoMode *> (data) = mode ();
+        *static_cast<OniVideoMode *> (data) = videoMode (sensor_);
         return ONI_STATUS_OK;
       case ONI_STREAM_PROPERTY_CROPPING:
       {
@@ -150,14 +200,12 @@ public:
         *static_cast<float *> (data) = static_cast<float> (2.0 * std::atan (half / kFocalPx));
         return ONI_STATUS_OK;
       }
-      case ONI_STREAM_PROPERTY_MAX_VALUE:
-      case ONI_STREAM_PROPERTY_MIN_VALUE:
+      default: // depth range of a Kinect v1, mm
         if (*size != sizeof (int))
           return ONI_STATUS_BAD_PARAMETER;
-        *static_cast<int *> (data) = id == ONI_STREAM_PROPERTY_MAX_VALUE ? 10000 : 0; // a Kinect v1's range, mm
+        *static_cast<int *> (data) = id == ONI_STREAM_PROPERTY_MAX_VALUE ? 10000 : 0;
         return ONI_STATUS_OK;
     }
-    return ONI_STATUS_NOT_SUPPORTED;
   }
 
   OniStatus
@@ -169,53 +217,46 @@ public:
     if (id == ONI_STREAM_PROPERTY_VIDEO_MODE && size == sizeof (OniVideoMode))
     {
       const OniVideoMode *m = static_cast<const OniVideoMode *> (data);
-      if (m->resolutionX == kWidth && m->resolutionY == kHeight && m->pixelFormat == ONI_PIXEL_FORMAT_DEPTH_1_MM)
+      const OniVideoMode mode = videoMode (sensor_);
+      if (m->resolutionX == mode.resolutionX && m->resolutionY == mode.resolutionY && m->pixelFormat == mode.pixelFormat)
         return ONI_STATUS_OK;
     }
     return ONI_STATUS_NOT_SUPPORTED;
-  }
-
-  static OniVideoMode
-  mode ()
-  {
-    OniVideoMode m;
-    m.pixelFormat = ONI_PIXEL_FORMAT_DEPTH_1_MM;
-    m.resolutionX = kWidth;
-    m.resolutionY = kHeight;
-    m.fps = 30;
-    return m;
   }
 
 private:
   void
   run ()
   {
-    auto due = std::chrono::steady_clock::now ();
-    for (std::size_t index = 0; running_ && index < frames_->size (); ++index)
+    // Colour follows its depth frame by a few milliseconds, so that the recording's record order
+    // (and with it the file) is the same every time.
+    const auto start = std::chrono::steady_clock::now () + std::chrono::milliseconds (sensor_ == ONI_SENSOR_DEPTH ? 0 : 10);
+    for (const Frame &source : *frames_)
     {
-      due += std::chrono::microseconds (33333);
-      std::this_thread::sleep_until (due);
+      std::this_thread::sleep_until (start + std::chrono::microseconds (source.timestamp_us));
+      if (!running_)
+        return;
       OniFrame *frame = getServices ().acquireFrame ();
       if (!frame)
         return;
-      const std::vector<std::uint16_t> &depth = (*frames_)[index];
-      std::memcpy (frame->data, depth.data (), depth.size () * sizeof (std::uint16_t));
-      frame->dataSize = static_cast<int> (depth.size () * sizeof (std::uint16_t));
-      frame->frameIndex = static_cast<int> (index + 1);
-      frame->timestamp = (index + 1) * 33333;
-      frame->videoMode = mode ();
+      std::memcpy (frame->data, source.bytes.data (), source.bytes.size ());
+      frame->dataSize = static_cast<int> (source.bytes.size ());
+      frame->frameIndex = source.index;
+      frame->timestamp = source.timestamp_us;
+      frame->videoMode = videoMode (sensor_);
       frame->width = kWidth;
       frame->height = kHeight;
       frame->cropOriginX = frame->cropOriginY = 0;
       frame->croppingEnabled = FALSE;
-      frame->stride = kWidth * sizeof (std::uint16_t);
-      frame->sensorType = ONI_SENSOR_DEPTH;
+      frame->stride = static_cast<int> (source.bytes.size () / kHeight);
+      frame->sensorType = sensor_;
       raiseNewFrame (frame);
       getServices ().releaseFrame (frame);
     }
   }
 
-  const Frames *frames_;
+  OniSensorType sensor_;
+  const std::vector<Frame> *frames_;
   std::atomic<bool> running_ {false};
   std::thread thread_;
 };
@@ -223,38 +264,47 @@ private:
 class Device : public oni::driver::DeviceBase
 {
 public:
-  explicit Device (const std::string &folder) : frames_ (loadFrames (folder))
+  explicit Device (const std::string &folder) : recording_ (loadRecording (folder))
   {
-    mode_ = DepthStream::mode ();
-    sensor_.sensorType = ONI_SENSOR_DEPTH;
-    sensor_.numSupportedVideoModes = 1;
-    sensor_.pSupportedVideoModes = &mode_;
+    depth_mode_ = videoMode (ONI_SENSOR_DEPTH);
+    colour_mode_ = videoMode (ONI_SENSOR_COLOR);
+    sensors_[0].sensorType = ONI_SENSOR_DEPTH;
+    sensors_[0].numSupportedVideoModes = 1;
+    sensors_[0].pSupportedVideoModes = &depth_mode_;
+    sensors_[1].sensorType = ONI_SENSOR_COLOR;
+    sensors_[1].numSupportedVideoModes = 1;
+    sensors_[1].pSupportedVideoModes = &colour_mode_;
   }
 
   bool
-  empty () const { return frames_.empty (); }
+  empty () const { return recording_.depth.empty (); }
 
   OniStatus
   getSensorInfoList (OniSensorInfo **sensors, int *count) override
   {
-    *sensors = &sensor_;
-    *count = 1;
+    *sensors = sensors_;
+    *count = recording_.colour.empty () ? 1 : 2;
     return ONI_STATUS_OK;
   }
 
   oni::driver::StreamBase *
   createStream (OniSensorType type) override
   {
-    return type == ONI_SENSOR_DEPTH ? new DepthStream (&frames_) : nullptr;
+    if (type == ONI_SENSOR_DEPTH)
+      return new ReplayStream (type, &recording_.depth);
+    if (type == ONI_SENSOR_COLOR && !recording_.colour.empty ())
+      return new ReplayStream (type, &recording_.colour);
+    return nullptr;
   }
 
   void
   destroyStream (oni::driver::StreamBase *stream) override { delete stream; }
 
 private:
-  Frames frames_;
-  OniVideoMode mode_;
-  OniSensorInfo sensor_;
+  Recording recording_;
+  OniVideoMode depth_mode_;
+  OniVideoMode colour_mode_;
+  OniSensorInfo sensors_[2];
 };
 
 class Driver : public oni::driver::DriverBase
