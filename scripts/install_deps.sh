@@ -11,7 +11,7 @@ packages=(
   libpcl-dev pcl-tools libeigen3-dev libopenni2-dev libvtk9-dev
   libceres-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev librandom123-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libpng-dev
+  libpng-dev libtiff-dev
   gnuplot-nox
   xvfb xauth libgl1-mesa-dri
 )

@@ -397,6 +397,22 @@ struct PngWriteHandle
   }
 };
 
+/** \brief Encodes an 8-bit RGB image row by row. Only trivially destructible locals (setjmp). */
+bool
+writeRgbRows (PngContext *ctx, const std::uint8_t *rgb, int width, int height)
+{
+  if (setjmp (png_jmpbuf (ctx->png)))
+    return false;
+  png_init_io (ctx->png, ctx->file);
+  png_set_IHDR (ctx->png, ctx->info, width, height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info (ctx->png, ctx->info);
+  for (int y = 0; y < height; ++y)
+    png_write_row (ctx->png, rgb + std::size_t (y) * width * 3);
+  png_write_end (ctx->png, nullptr);
+  return true;
+}
+
 /** \brief Encodes a 16-bit grey image row by row. Only trivially destructible locals (setjmp). */
 bool
 writeDepthRows (PngContext *ctx, const std::uint16_t *depth_mm, int width, int height)
@@ -533,31 +549,51 @@ readRgbPng (const std::string &path, int &width, int &height)
   return readPng<std::uint8_t> (path, PngKind::rgb, width, height);
 }
 
-void
-writeDepthPng (const std::string &path, const std::uint16_t *depth_mm, int width, int height)
+namespace
 {
-  const std::string what = "depth PNG '" + path + "': ";
-  if (!depth_mm || width <= 0 || height <= 0)
-    throw pcl::BadArgumentException (what + "nothing to write (image " + sizeText (width, height) + ")");
 
-  TemporaryFile tmp (path, "depth PNG");
+/** \brief Writes one PNG through \a encode (writeDepthRows or writeRgbRows) into "<path>.tmp",
+  * renamed onto \a path once complete.
+  */
+template <typename Sample, typename Encode> void
+writePng (const std::string &path, const char *what, const Sample *pixels, int width, int height, Encode encode)
+{
+  const std::string prefix = std::string (what) + " '" + path + "': ";
+  if (!pixels || width <= 0 || height <= 0)
+    throw pcl::BadArgumentException (prefix + "nothing to write (image " + sizeText (width, height) + ")");
+
+  TemporaryFile tmp (path, what);
   {
     PngWriteHandle handle;
     PngContext &ctx = handle.ctx;
     ctx.file = std::fopen (tmp.path ().c_str (), "wb");
     if (!ctx.file)
-      throw pcl::IOException (what + "cannot create '" + tmp.path () + "': " + std::strerror (errno));
+      throw pcl::IOException (prefix + "cannot create '" + tmp.path () + "': " + std::strerror (errno));
     ctx.png = png_create_write_struct (PNG_LIBPNG_VER_STRING, &ctx, pngError, pngWarning);
     if (ctx.png)
       ctx.info = png_create_info_struct (ctx.png);
     if (!ctx.info)
-      throw pcl::IOException (what + "libpng could not allocate its write structures");
-    if (!writeDepthRows (&ctx, depth_mm, width, height))
-      throw pcl::IOException (what + "cannot write '" + tmp.path () + "' (libpng: " + ctx.error + ")");
+      throw pcl::IOException (prefix + "libpng could not allocate its write structures");
+    if (!encode (&ctx, pixels, width, height))
+      throw pcl::IOException (prefix + "cannot write '" + tmp.path () + "' (libpng: " + ctx.error + ")");
     if (!handle.close ())
-      throw pcl::IOException (what + "cannot write '" + tmp.path () + "': " + std::strerror (errno));
+      throw pcl::IOException (prefix + "cannot write '" + tmp.path () + "': " + std::strerror (errno));
   }
   tmp.commit ();
+}
+
+} // namespace
+
+void
+writeDepthPng (const std::string &path, const std::uint16_t *depth_mm, int width, int height)
+{
+  writePng (path, "depth PNG", depth_mm, width, height, writeDepthRows);
+}
+
+void
+writeRgbPng (const std::string &path, const std::uint8_t *rgb, int width, int height)
+{
+  writePng (path, "RGB PNG", rgb, width, height, writeRgbRows);
 }
 
 // ---------------------------------------------------------------------------------------------

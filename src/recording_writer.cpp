@@ -75,10 +75,18 @@ RecordingFolderWriter::writeFrame (const DepthFrame &frame) const
     throw pcl::BadArgumentException (what + "is " + std::to_string (frame.width) + "x" + std::to_string (frame.height) +
                                      " with " + std::to_string (frame.depth_mm.size ()) + " depth values, camera.yaml says " +
                                      std::to_string (info_.width) + "x" + std::to_string (info_.height));
-  if (!frame.rgb.empty ())
-    throw pcl::BadArgumentException (what + "carries RGB, which this writer does not write");
+  if (!frame.rgb.empty () && frame.rgb.size () != 3 * frame.depth_mm.size ())
+    throw pcl::BadArgumentException (what + "its RGB buffers do not match its size (" + std::to_string (frame.rgb.size ()) +
+                                     " bytes for " + std::to_string (frame.width) + "x" + std::to_string (frame.height) + ")");
   writeDepthPng ((fs::path (tmp_) / "depth" / (frame.name + ".png")).string (), frame.depth_mm.data (), frame.width,
                  frame.height);
+  if (!frame.rgb.empty ())
+  {
+    std::error_code ec;
+    fs::create_directories (fs::path (tmp_) / "rgb", ec); // safe when several threads race to make it
+    writeRgbPng ((fs::path (tmp_) / "rgb" / (frame.name + ".png")).string (), frame.rgb.data (), frame.width,
+                 frame.height);
+  }
 }
 
 void

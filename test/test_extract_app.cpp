@@ -12,8 +12,10 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -142,6 +144,81 @@ TEST_F (ExtractApp, RecordingFolderWritesOneFilePerFrame)
   EXPECT_NE (r.err.find ("frame 3/3"), std::string::npos) << r.err; // progress lines
 }
 
+TEST_F (ExtractApp, GrabberTiffFolderWritesOneFilePerFrame)
+{
+  const fs::path out = dir / "out";
+  const std::string sequence = std::string (DATA_DIR) + "/kinect/grabber_sequence";
+  const Result r = run (sequence + " " + out.string () + " --uncertainty analytic");
+  ASSERT_EQ (r.code, 0) << r.err;
+  EXPECT_NE (r.err.find ("frame 3/3"), std::string::npos) << r.err;
+  const char *frames[] = {"frame_20121214T142255.814212", "frame_20121214T142256.068683", "frame_20121214T142256.332395"};
+  for (const char *frame : frames)
+  {
+    pcl::PointCloud<pcl::Texlet> texlets;
+    ASSERT_EQ (pcl::io::loadPCDFile ((out / (std::string (frame) + ".pcd")).string (), texlets), 0) << frame;
+    ASSERT_EQ (static_cast<int> (texlets.size ()), pcl::texlet::kernels::makeHexGrid (640, 480, 6).size ());
+    std::size_t valid = 0;
+    for (const auto &t : texlets)
+      if (std::isfinite (t.x))
+      {
+        ++valid;
+        EXPECT_LT (t.normal_x * t.x + t.normal_y * t.y + t.normal_z * t.z, 0.0f); // faces the camera
+      }
+    EXPECT_GT (valid, texlets.size () / 2) << frame;
+  }
+
+  // The first frame's PCD was made by PCL's grabber from the same depth with the same intrinsics
+  // (fx = fy = 525, centre (320, 240), recovered from the cloud): its texlets are the TIFF frame's.
+  const fs::path from_pcd = dir / "from_pcd.pcd";
+  ASSERT_EQ (run (kRealFrame + " " + from_pcd.string () + " --uncertainty analytic").code, 0);
+  pcl::PointCloud<pcl::Texlet> a, b;
+  ASSERT_EQ (pcl::io::loadPCDFile ((out / (std::string (frames[0]) + ".pcd")).string (), a), 0);
+  ASSERT_EQ (pcl::io::loadPCDFile (from_pcd.string (), b), 0);
+  ASSERT_EQ (a.size (), b.size ());
+  std::size_t both = 0, one = 0, same = 0;
+  std::vector<double> centre_mm, normal_deg;
+  for (std::size_t i = 0; i < a.size (); ++i)
+  {
+    if (std::isfinite (a[i].x) != std::isfinite (b[i].x))
+      ++one;
+    if (!std::isfinite (a[i].x) || !std::isfinite (b[i].x))
+      continue;
+    ++both;
+    const Eigen::Vector3f pa (a[i].x, a[i].y, a[i].z), pb (b[i].x, b[i].y, b[i].z);
+    const Eigen::Vector3f na (a[i].normal_x, a[i].normal_y, a[i].normal_z), nb (b[i].normal_x, b[i].normal_y, b[i].normal_z);
+    centre_mm.push_back (1e3 * double ((pa - pb).norm ()));
+    normal_deg.push_back (180.0 / M_PI * std::acos (std::min (1.0f, na.dot (nb))));
+    same += centre_mm.back () < 0.01 && normal_deg.back () < 0.1;
+  }
+  std::sort (centre_mm.begin (), centre_mm.end ());
+  std::sort (normal_deg.begin (), normal_deg.end ());
+  const auto at = [] (const std::vector<double> &v, double q) { return v[std::size_t (q * (v.size () - 1))]; };
+  std::cout << "TIFF vs PCD texlets: " << both << " valid in both, " << one << " in one only, " << same
+            << " the same (centre < 0.01 mm, normal < 0.1 deg); centre diff median " << at (centre_mm, 0.5) << " p99 "
+            << at (centre_mm, 0.99) << " max " << centre_mm.back () << " mm; normal diff median " << at (normal_deg, 0.5)
+            << " p99 " << at (normal_deg, 0.99) << " max " << normal_deg.back () << " deg" << std::endl;
+  // The two clouds differ only in float rounding of x and y, which flips a few RANSAC inlier decisions.
+  EXPECT_EQ (one, 0u);
+  EXPECT_GT (both, 8000u);
+  EXPECT_GE (same, both * 995 / 1000);
+  EXPECT_LT (at (centre_mm, 0.5), 0.001);
+}
+
+TEST_F (ExtractApp, OniFileWritesOneFilePerFrame)
+{
+  const fs::path out = dir / "out";
+  const Result r = run (std::string (DATA_DIR) + "/kinect/grabber_sequence.oni " + out.string () +
+                        " --uncertainty none --spacing 12");
+  ASSERT_EQ (r.code, 0) << r.err;
+  for (const char *name : {"000001.pcd", "000002.pcd", "000003.pcd"})
+  {
+    pcl::PointCloud<pcl::Texlet> texlets;
+    ASSERT_EQ (pcl::io::loadPCDFile ((out / name).string (), texlets), 0) << name;
+    EXPECT_EQ (static_cast<int> (texlets.size ()), pcl::texlet::kernels::makeHexGrid (640, 480, 12).size ());
+  }
+  EXPECT_NE (r.out.find ("frames:                3"), std::string::npos) << r.out;
+}
+
 TEST_F (ExtractApp, BadInputExitsTwoWithOneLine)
 {
   const fs::path out = dir / "out.pcd";
@@ -156,6 +233,11 @@ TEST_F (ExtractApp, BadInputExitsTwoWithOneLine)
     std::ofstream (dir / "truncated.pcd", std::ios::binary).write (data.data (), data.size () / 2);
   }
   expectRejected ((dir / "truncated.pcd").string () + " " + out.string (), "truncated.pcd", out);
+
+  // .oni input: missing, and not a recording (OpenNI2's multi-line message comes out on one line).
+  expectRejected ((dir / "missing.oni").string () + " " + out.string (), "missing.oni", out);
+  std::ofstream (dir / "garbage.oni") << "this is not a recording\n";
+  expectRejected ((dir / "garbage.oni").string () + " " + out.string (), "garbage.oni", out);
 
   pcl::PointCloud<pcl::PointXYZ> flat;
   flat.resize (500, pcl::PointXYZ (0, 0, 1));

@@ -259,6 +259,21 @@ TEST_F (RecordingTest, RgbPngReadsRgbAndDropsAlpha)
   EXPECT_EQ (readRgbPng (file ("rgba.png"), width, height), rgb);
 }
 
+TEST_F (RecordingTest, RgbPngRoundTripKeepsEveryValueAndLeavesNoTemporaryFile)
+{
+  const std::vector<std::uint8_t> rgb = rgbPattern (33, 17, 5);
+  writeRgbPng (file ("rgb.png"), rgb.data (), 33, 17);
+  EXPECT_FALSE (fs::exists (file ("rgb.png.tmp")));
+  int width = 0, height = 0;
+  EXPECT_EQ (readRgbPng (file ("rgb.png"), width, height), rgb);
+  EXPECT_EQ (width, 33);
+  EXPECT_EQ (height, 17);
+  // An RGB image is not a depth frame, whoever wrote it.
+  expectIoError ([&] { readDepthPng (file ("rgb.png"), width, height); }, {file ("rgb.png"), "found 8-bit RGB"});
+  expectIoError ([&] { writeRgbPng (file ("no/such/folder/rgb.png"), rgb.data (), 33, 17); },
+                 {file ("no/such/folder/rgb.png"), "cannot create"});
+}
+
 TEST_F (RecordingTest, EightBitGreyPngIsNotADepthFrame)
 {
   ASSERT_TRUE (writeGrey8Png (file ("grey8.png"), 33, 17));

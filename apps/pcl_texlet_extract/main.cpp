@@ -1,6 +1,7 @@
 /*
- * pcl_texlet_extract: texlets from an organised PCD file, a folder of them, or a recording
- * folder (DESIGN.md section 4), written as texlet PCD files, with a summary on stdout.
+ * pcl_texlet_extract: texlets from an organised PCD file, a folder of them, or any recording
+ * openRecording () reads (DESIGN.md section 4: recording folder, PCL grabber TIFF folder, .oni
+ * file), written as texlet PCD files, with a summary on stdout.
  *
  * Exit codes: 0 success, 2 bad input or options (one line on stderr), 1 unexpected failure.
  */
@@ -8,6 +9,7 @@
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/pinhole_model.h>
 #include <pcl_texlet/recording.h>
+#include <pcl_texlet/recording_readers.h>
 #include <pcl_texlet/texlet_estimation.h>
 
 #include <pcl/console/print.h>
@@ -16,6 +18,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -198,9 +201,10 @@ extractPcd (Extractor &ex, const std::string &file, const std::string &out)
     ex.run<pcl::PointXYZ> (load (std::make_shared<pcl::PointCloud<pcl::PointXYZ>> ()), nullptr, file, out);
 }
 
+/** Every frame of a recording, back-projected with the recording's own camera. */
 void
-extractRecording (Extractor &ex, pcl::texlet::RecordingFolderReader &reader, const std::string &folder,
-                  const std::string &out_dir)
+extractRecording (Extractor &ex, pcl::texlet::RecordingReader &reader, pcl::texlet::RecordingKind kind,
+                  const std::string &input, const std::string &out_dir)
 {
   const auto &info = reader.cameraInfo ();
   const auto camera = std::make_shared<pcl::texlet::PinholeModel> (pcl::texlet::PinholeModel::fromCameraInfo (info));
@@ -210,31 +214,20 @@ extractRecording (Extractor &ex, pcl::texlet::RecordingFolderReader &reader, con
   {
     auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
     pcl::texlet::depthToCloud (frame, *camera, *cloud);
-    ex.run<pcl::PointXYZRGBA> (cloud, camera, folder + "/depth/" + frame.name + ".png",
-                               (fs::path (out_dir) / (frame.name + ".pcd")).string ());
+    // Names the frame's file where there is one, else the frame within the input.
+    const std::string source = kind == pcl::texlet::RecordingKind::recording_folder
+                                   ? input + "/depth/" + frame.name + ".png"
+                                   : (fs::path (input) / frame.name).string ();
+    ex.run<pcl::PointXYZRGBA> (cloud, camera, source, (fs::path (out_dir) / (frame.name + ".pcd")).string ());
   }
 }
 
-/** The *.pcd files of a folder, sorted by name. */
-std::vector<fs::path>
-listPcdFiles (const std::string &folder)
-{
-  std::vector<fs::path> files;
-  for (const auto &e : fs::directory_iterator (folder))
-    if (e.is_regular_file () && e.path ().extension () == ".pcd")
-      files.push_back (e.path ());
-  if (files.empty ())
-    throw InputError ("input folder '" + folder + "' has neither camera.yaml + depth/ (a recording) nor *.pcd files");
-  std::sort (files.begin (), files.end ());
-  return files;
-}
-
 void
-extractPcdFolder (Extractor &ex, const std::vector<fs::path> &files, const std::string &out_dir)
+extractPcdFolder (Extractor &ex, const std::vector<std::string> &files, const std::string &out_dir)
 {
   ex.setFrameCount (files.size ());
   for (const auto &f : files)
-    extractPcd (ex, f.string (), (fs::path (out_dir) / f.filename ()).string ());
+    extractPcd (ex, f, (fs::path (out_dir) / fs::path (f).filename ()).string ());
 }
 
 void
@@ -258,10 +251,13 @@ run (int argc, char **argv)
 {
   Options o;
   CLI::App app ("Extract texlets (surface patches with uncertainties) from organised depth data.\n"
-                "INPUT: an organised PCD file, a folder of them, or a recording folder (camera.yaml + depth/*.png).\n"
-                "OUTPUT: a texlet PCD file for a PCD input, else a folder with one texlet PCD per frame.",
+                "INPUT: an organised PCD file, a folder of them, a recording folder (camera.yaml + depth/*.png),\n"
+                "a folder of PCL image grabber frames (tiff/*_depth.tiff + intrinsics.xml) or an .oni file.\n"
+                "OUTPUT: a texlet PCD file for a PCD file input, else a folder with one texlet PCD per frame.",
                 kName);
-  app.add_option ("INPUT", o.input, "organised PCD file, folder of PCD files, or recording folder")->required ();
+  app.add_option ("INPUT", o.input, "organised PCD file, folder of PCD files, recording folder, grabber TIFF folder, "
+                                    "or .oni file")
+      ->required ();
   app.add_option ("OUTPUT", o.output, "texlet PCD file, or output folder for several frames")->required ();
   app.add_option ("-s,--spacing", o.params.spacing, "hexagonal grid spacing, pixels")->capture_default_str ();
   app.add_option ("-r,--radius", o.params.radius, "neighbourhood radius, pixels")->capture_default_str ();
@@ -274,8 +270,8 @@ run (int argc, char **argv)
   app.add_option ("-n,--samples", o.params.samples, "Monte Carlo samples")->capture_default_str ();
   app.add_option ("--seed", o.params.seed, "random seed")->capture_default_str ();
   app.add_option ("--min-support", o.params.min_support, "fewest inliers for a texlet")->capture_default_str ();
-  app.add_option ("--camera", o.intrinsics, "pinhole intrinsics fx fy cx cy, pixels (default: from camera.yaml, "
-                                            "or estimated from the cloud)")
+  app.add_option ("--camera", o.intrinsics, "pinhole intrinsics fx fy cx cy, pixels (default: the recording's, "
+                                            "or estimated from each PCD cloud)")
       ->expected (4);
   app.add_option ("-j,--threads", o.threads, "threads (0: all)")->capture_default_str ();
   app.add_flag ("--ascii", o.ascii, "write ASCII PCD (9 significant digits: exact) instead of binary");
@@ -305,22 +301,26 @@ run (int argc, char **argv)
       throw InputError ("--threads " + std::to_string (o.threads) + " is not a sensible thread count");
     Extractor ex (o);
 
-    if (fs::is_directory (o.input))
+    std::string extension = fs::path (o.input).extension ().string ();
+    std::transform (extension.begin (), extension.end (), extension.begin (), [] (unsigned char c) { return std::tolower (c); });
+    if (fs::is_directory (o.input) || extension == ".oni")
     {
       if (fs::exists (o.output) && !fs::is_directory (o.output))
-        throw InputError ("OUTPUT '" + o.output + "' must be a folder when INPUT is a folder");
+        throw InputError ("OUTPUT '" + o.output + "' must be a folder when INPUT is a folder or an .oni file");
       // Inputs are checked before the output folder is made.
-      if (pcl::texlet::RecordingFolderReader::isRecordingFolder (o.input))
+      const pcl::texlet::RecordingKind kind = pcl::texlet::recordingKind (o.input);
+      if (kind == pcl::texlet::RecordingKind::pcd_folder)
       {
-        pcl::texlet::RecordingFolderReader reader (o.input);
+        // The clouds themselves, not depth re-projected: their points and any camera stay exact.
+        const auto files = pcl::texlet::PcdFolderReader::listPcdFiles (o.input);
         fs::create_directories (o.output);
-        extractRecording (ex, reader, o.input, o.output);
+        extractPcdFolder (ex, files, o.output);
       }
       else
       {
-        const auto files = listPcdFiles (o.input);
+        const pcl::texlet::RecordingReader::Ptr reader = pcl::texlet::openRecording (o.input);
         fs::create_directories (o.output);
-        extractPcdFolder (ex, files, o.output);
+        extractRecording (ex, *reader, kind, o.input, o.output);
       }
     }
     else

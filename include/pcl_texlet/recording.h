@@ -72,6 +72,10 @@ writeDepthPng (const std::string &path, const std::uint16_t *depth_mm, int width
 std::vector<std::uint8_t>
 readRgbPng (const std::string &path, int &width, int &height);
 
+/** \brief Write an 8-bit RGB PNG from row-major RGB triplets (to a temporary file, then renamed). */
+void
+writeRgbPng (const std::string &path, const std::uint8_t *rgb, int width, int height);
+
 /** \brief Streaming source of depth frames. */
 class RecordingReader
 {

@@ -37,10 +37,10 @@ public:
   /** \brief Removes the temporary folder unless commit () succeeded. */
   ~RecordingFolderWriter ();
 
-  /** \brief Writes depth/<frame.name>.png. Safe to call from several threads at once for
-    * different frames.
+  /** \brief Writes depth/<frame.name>.png, and rgb/<frame.name>.png when the frame has colour.
+    * Safe to call from several threads at once for different frames.
     * \throws pcl::BadArgumentException if the frame's size differs from camera.yaml's, its
-    *         name is empty or not a plain file name, or it carries RGB (not written here).
+    *         buffers do not match its size, or its name is empty or not a plain file name.
     * \throws pcl::IOException if the PNG cannot be written.
     */
   void
