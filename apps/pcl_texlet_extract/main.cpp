@@ -5,6 +5,7 @@
  *
  * Exit codes: 0 success, 2 bad input or options (one line on stderr), 1 unexpected failure.
  */
+#include "../common/app_main.h"
 #include <pcl_texlet/depth_image.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/pinhole_model.h>
@@ -29,23 +30,13 @@
 namespace fs = std::filesystem;
 using pcl::texlet::CameraModel;
 
+using pcl_texlet_app::InputError;
+using pcl_texlet_app::pclMessage;
+
 namespace
 {
 
 const char *const kName = "pcl_texlet_extract";
-
-/** Bad input or options: reported on one line, exit code 2. */
-struct InputError : std::runtime_error
-{
-  using std::runtime_error::runtime_error;
-};
-
-/** PCL's exceptions prefix their text with ": " when no function is named. */
-std::string
-clean (const std::string &what)
-{
-  return what.rfind (": ", 0) == 0 ? what.substr (2) : what;
-}
 
 struct Options
 {
@@ -123,7 +114,7 @@ public:
     }
     catch (const pcl::PCLException &e)
     {
-      throw InputError (source + ": " + clean (e.what ()));
+      throw InputError (source + ": " + pclMessage (e.what ()));
     }
     const double s = std::chrono::duration<double> (std::chrono::steady_clock::now () - t0).count ();
     writeTexlets (out, texlets, o_.ascii);
@@ -333,7 +324,7 @@ run (int argc, char **argv)
   }
   catch (const pcl::PCLException &e)
   {
-    throw InputError (clean (e.what ()));
+    throw InputError (pclMessage (e.what ()));
   }
   return 0;
 }
@@ -343,18 +334,5 @@ run (int argc, char **argv)
 int
 main (int argc, char **argv)
 {
-  try
-  {
-    return run (argc, argv);
-  }
-  catch (const InputError &e)
-  {
-    std::cerr << kName << ": error: " << e.what () << std::endl;
-    return 2;
-  }
-  catch (const std::exception &e)
-  {
-    std::cerr << kName << ": internal error: " << e.what () << std::endl;
-    return 1;
-  }
+  return pcl_texlet_app::runApp (kName, run, argc, argv);
 }

@@ -7,6 +7,7 @@
  * The output is written to a hidden temporary folder and renamed when complete, so a failed
  * run leaves no recording.
  */
+#include "../common/app_main.h"
 #include <pcl_texlet/simulator/effects.h>
 #include <pcl_texlet/simulator/kinect_simulator.h>
 #include <pcl_texlet/simulator/scene_setup.h>
@@ -33,23 +34,13 @@
 namespace fs = std::filesystem;
 using namespace pcl::texlet::sim;
 
+using pcl_texlet_app::InputError;
+using pcl_texlet_app::pclMessage;
+
 namespace
 {
 
 const char *const kName = "pcl_texlet_sim";
-
-/** Bad input or options: reported on one line, exit code 2. */
-struct InputError : std::runtime_error
-{
-  using std::runtime_error::runtime_error;
-};
-
-/** PCL's exceptions prefix their text with ": " when no function is named. */
-std::string
-clean (const std::string &what)
-{
-  return what.rfind (": ", 0) == 0 ? what.substr (2) : what;
-}
 
 struct Options
 {
@@ -369,7 +360,7 @@ run (int argc, char **argv)
   }
   catch (const pcl::PCLException &e)
   {
-    throw InputError (clean (e.what ()));
+    throw InputError (pclMessage (e.what ()));
   }
   return 0;
 }
@@ -379,18 +370,5 @@ run (int argc, char **argv)
 int
 main (int argc, char **argv)
 {
-  try
-  {
-    return run (argc, argv);
-  }
-  catch (const InputError &e)
-  {
-    std::cerr << kName << ": error: " << e.what () << std::endl;
-    return 2;
-  }
-  catch (const std::exception &e)
-  {
-    std::cerr << kName << ": internal error: " << e.what () << std::endl;
-    return 1;
-  }
+  return pcl_texlet_app::runApp (kName, run, argc, argv);
 }

@@ -3,6 +3,7 @@
  *
  * Exit codes: 0 success, 2 bad input or options (one line on stderr), 1 unexpected failure.
  */
+#include "../common/app_main.h"
 #include "frame_sources.h"
 #include "texlet_layers.h"
 
@@ -32,21 +33,13 @@ using namespace pcl_texlet_viewer;
 using pcl::texlet::PlaneFitMethod;
 using pcl::texlet::UncertaintyMethod;
 
+using pcl_texlet_app::InputError;
+using pcl_texlet_app::pclMessage;
+
 namespace
 {
 
 const char *const kName = "pcl_texlet_viewer";
-
-struct InputError : std::runtime_error
-{
-  using std::runtime_error::runtime_error;
-};
-
-std::string
-clean (const std::string &what)
-{
-  return what.rfind (": ", 0) == 0 ? what.substr (2) : what;
-}
 
 /** Which layers are drawn. */
 struct Layers
@@ -196,7 +189,7 @@ private:
     }
     catch (const pcl::PCLException &e)
     {
-      throw InputError (frame_.name + ": " + clean (e.what ()));
+      throw InputError (frame_.name + ": " + pclMessage (e.what ()));
     }
     ms_ = std::chrono::duration<double, std::milli> (std::chrono::steady_clock::now () - t0).count ();
     texlets_ = out;
@@ -294,7 +287,7 @@ private:
       }
       catch (const pcl::PCLException &ex)
       {
-        std::cout << clean (ex.what ()) << std::endl;
+        std::cout << pclMessage (ex.what ()) << std::endl;
       }
     };
     if (key == "c")
@@ -424,7 +417,7 @@ run (int argc, char **argv)
   }
   catch (const pcl::PCLException &e)
   {
-    throw InputError (clean (e.what ()));
+    throw InputError (pclMessage (e.what ()));
   }
   return 0;
 }
@@ -434,18 +427,5 @@ run (int argc, char **argv)
 int
 main (int argc, char **argv)
 {
-  try
-  {
-    return run (argc, argv);
-  }
-  catch (const InputError &e)
-  {
-    std::cerr << kName << ": error: " << e.what () << std::endl;
-    return 2;
-  }
-  catch (const std::exception &e)
-  {
-    std::cerr << kName << ": internal error: " << e.what () << std::endl;
-    return 1;
-  }
+  return pcl_texlet_app::runApp (kName, run, argc, argv);
 }
