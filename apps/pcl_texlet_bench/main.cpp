@@ -57,7 +57,7 @@ struct Options
   int repetitions = 15, warmup = 2;
   bool organized_knn = true;
   bool timing = true, accuracy = true, table1 = false, fig8 = false, scaling = false;
-  int table1_reps = 7, scaling_reps = 5, fig8_runs = 100;
+  int table1_reps = 5, scaling_reps = 5, fig8_runs = 100;
   std::string json_path, data_dir;
   bool quiet = false;
 };
@@ -304,6 +304,20 @@ runTiming (const Options &o, const Input &in, const std::vector<MethodSpec> &met
     m["ratio_of_medians"] = num (s.median / ref_median);
     j["methods"].push_back (m);
   }
+  // The speed targets, as ratios to NormalEstimationOMP in this run (PCA fit).
+  const std::pair<const char *, double> targets[] = {
+      {"texlet/none/pca", 0.35}, {"texlet/analytic/pca", 0.6}, {"texlet/montecarlo/pca", 1.5}};
+  std::cout << "targets (ratio to " << (reference >= 0 ? methods[reference].name : "-") << "):";
+  for (const auto &[name, target] : targets)
+    for (const auto &m : j["methods"])
+      if (m["name"] == name)
+      {
+        const double r = m["ratio_to_reference"].is_number () ? m["ratio_to_reference"].get<double> () : NAN;
+        j["targets"].push_back ({{"name", name}, {"target_ratio", target}, {"ratio", num (r)}, {"met", r <= target}});
+        std::cout << "  " << name << " " << fmt (r, 2) << " (target <= " << fmt (target, 2) << ", "
+                  << (r <= target ? "met" : "not met") << ")";
+      }
+  std::cout << "\n";
   std::cout << "neighbourhood check: texlet support == PixelDiscSearch neighbours at " << check.support_equal << "/"
             << check.centres << " centres, same centre pixel at " << check.centre_equal << "/" << check.centres
             << "; normals of TexletEstimation (PCA, all inliers) vs NormalEstimationOMP: median "
