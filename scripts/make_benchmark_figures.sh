@@ -35,18 +35,17 @@ set key top left
 # --- median time per method with its interquartile range ---------------------------------
 set output "$IMAGES/timing.png"
 set title "Time per 640x480 frame at the same hexagonal centres (${MACHINE})"
-set ylabel "time per frame, ms (median, bar: interquartile range)"
+set ylabel "ms per frame (median; error bar: interquartile range)"
 set logscale y
 set style fill solid 0.5 border -1
-set boxwidth 0.7
 set xtics rotate by -35 left noenhanced
 set bmargin 11
-unset key
-plot "$DATA/timing.dat" using 1:3:4:5:(0.7):xtic(2) with boxerrorbars lc rgb "#4472c4"
+set key top left
+plot "$DATA/timing.dat" using (\$1-0.18):3:4:5:(0.36):xtic(2) with boxerrorbars lc rgb "#4472c4" title "wall clock", \
+     "" using (\$1+0.18):9:10:11:(0.36) with boxerrorbars lc rgb "#ed7d31" title "CPU time, all threads"
 unset logscale y
 set xtics norotate enhanced
 set bmargin
-set key top left
 
 # --- the paper's Fig. 8 ------------------------------------------------------------------
 set output "$IMAGES/fig8.png"
@@ -67,22 +66,22 @@ unset multiplot
 # --- scaling -----------------------------------------------------------------------------
 set ytics nomirror
 set y2tics
-set ylabel "time per frame, ms (none, analytic, NormalEstimationOMP)"
-set y2label "time per frame, ms (Monte Carlo, 50 samples)"
+set ylabel "CPU ms per frame, all threads (none, analytic, NormalEstimationOMP)"
+set y2label "CPU ms per frame, all threads (Monte Carlo, 50 samples)"
 set output "$IMAGES/scaling_texlets.png"
-set title "Time against the number of texlets (spacing 2-12 px, radius 6 px; ${MACHINE})"
+set title "CPU time against the number of texlets (spacing 2-12 px, radius 6 px; ${MACHINE})"
 set xlabel "texlet centres per 640x480 frame"
-plot "$DATA/scaling_spacing.dat" using 2:3 with linespoints lw 2 title "texlets, no uncertainty", \
-     "" using 2:6 with linespoints lw 2 title "texlets, analytic", \
-     "" using 2:12 with linespoints lw 2 title "NormalEstimationOMP, same disc", \
-     "" using 2:9 axes x1y2 with linespoints lw 2 dt 2 title "texlets, Monte Carlo 50 (right axis)"
+plot "$DATA/scaling_spacing.dat" using 2:6 with linespoints lw 2 title "texlets, no uncertainty", \
+     "" using 2:12 with linespoints lw 2 title "texlets, analytic", \
+     "" using 2:24 with linespoints lw 2 title "NormalEstimationOMP, same disc", \
+     "" using 2:18 axes x1y2 with linespoints lw 2 dt 2 title "texlets, Monte Carlo 50 (right axis)"
 set output "$IMAGES/scaling_radius.png"
-set title "Time against the neighbourhood size (radius 2-10 px, spacing 6 px; ${MACHINE})"
+set title "CPU time against the neighbourhood size (radius 2-10 px, spacing 6 px; ${MACHINE})"
 set xlabel "pixels in the neighbourhood disc"
-plot "$DATA/scaling_radius.dat" using 2:3 with linespoints lw 2 title "texlets, no uncertainty", \
-     "" using 2:6 with linespoints lw 2 title "texlets, analytic", \
-     "" using 2:12 with linespoints lw 2 title "NormalEstimationOMP, same disc", \
-     "" using 2:9 axes x1y2 with linespoints lw 2 dt 2 title "texlets, Monte Carlo 50 (right axis)"
+plot "$DATA/scaling_radius.dat" using 2:6 with linespoints lw 2 title "texlets, no uncertainty", \
+     "" using 2:12 with linespoints lw 2 title "texlets, analytic", \
+     "" using 2:24 with linespoints lw 2 title "NormalEstimationOMP, same disc", \
+     "" using 2:18 axes x1y2 with linespoints lw 2 dt 2 title "texlets, Monte Carlo 50 (right axis)"
 EOF
 
 # Written last, renamed into place: no half-written result if anything above failed.

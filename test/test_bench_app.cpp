@@ -123,6 +123,8 @@ TEST_F (BenchOnSimulatedScenes, EveryMethodIsTimedAtTheSameHexagonalCentres)
     EXPECT_GT (m["time_ms"]["median"].get<double> (), 0.0) << m["name"];
     EXPECT_LE (m["time_ms"]["min"].get<double> (), m["time_ms"]["max"].get<double> ()) << m["name"];
     EXPECT_GT (m["ratio_to_reference"].get<double> (), 0.0) << m["name"];
+    EXPECT_GT (m["cpu_time_ms"]["median"].get<double> (), 0.0) << m["name"];
+    EXPECT_GT (m["cpu_ratio_to_reference"].get<double> (), 0.0) << m["name"];
   }
   EXPECT_EQ (names.size (), 13u);
   for (const char *n : {"texlet/none/pca", "texlet/analytic/svd", "texlet/montecarlo/averaging", "pcl/ne_omp_disc",
@@ -130,6 +132,8 @@ TEST_F (BenchOnSimulatedScenes, EveryMethodIsTimedAtTheSameHexagonalCentres)
     EXPECT_EQ (names.count (n), 1u) << n;
   EXPECT_EQ (t["reference"], "pcl/ne_omp_disc");
   EXPECT_DOUBLE_EQ (method (t["methods"], "pcl/ne_omp_disc")["ratio_to_reference"].get<double> (), 1.0);
+  EXPECT_DOUBLE_EQ (method (t["methods"], "pcl/ne_omp_disc")["cpu_ratio_to_reference"].get<double> (), 1.0);
+  ASSERT_EQ (t["targets"].size (), 3u);
   // PCL's estimators use every neighbour; RANSAC keeps most of a plane's points.
   EXPECT_DOUBLE_EQ (method (t["methods"], "pcl/ne_omp_disc")["inlier_share"].get<double> (), 1.0);
   const double share = method (t["methods"], "texlet/none/pca")["inlier_share"].get<double> ();

@@ -3,6 +3,12 @@
  * with the starting method rotated, so a busy machine slows them all alike; warm-up runs are
  * not counted; each method's times are summarised by median, quartiles and extremes, and its
  * ratio to a reference by the median of the per-repetition ratios.
+ *
+ * Both wall-clock and process CPU time are taken. On an idle machine the wall time is what a
+ * user waits. On a shared one it is not: a run of a few ms can finish inside one time slice
+ * while a long run always shares the cores, so wall ratios drift against long methods. CPU
+ * time (all threads of the process, CLOCK_PROCESS_CPUTIME_ID) counts only the cycles the
+ * method ran and stays a fair ratio between methods with the same thread count.
  */
 #pragma once
 
@@ -14,6 +20,8 @@
 #include <functional>
 #include <string>
 #include <vector>
+
+#include <time.h>
 
 namespace pcl_texlet_bench
 {
@@ -52,9 +60,20 @@ spread (const std::vector<double> &v)
 /** \brief Times of one method, milliseconds, and its per-repetition ratios to the reference. */
 struct Timing
 {
-  std::vector<double> ms;
-  std::vector<double> ratio;
+  std::vector<double> ms;        ///< wall clock
+  std::vector<double> ratio;     ///< wall clock / the reference's, per repetition
+  std::vector<double> cpu_ms;    ///< process CPU time, all threads
+  std::vector<double> cpu_ratio; ///< CPU time / the reference's, per repetition
 };
+
+/** \brief CPU time of the whole process (every thread), milliseconds. */
+inline double
+processCpuMs ()
+{
+  timespec ts;
+  clock_gettime (CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return 1e3 * ts.tv_sec + 1e-6 * ts.tv_nsec;
+}
 
 /** \brief Runs every runner \a warmup + \a repetitions times, interleaved.
   * \param reference index of the runner the ratios are taken to (-1: none)
@@ -66,22 +85,28 @@ timeInterleaved (const std::vector<MethodRunner *> &runners, int reference, int 
 {
   const int m = static_cast<int> (runners.size ());
   std::vector<Timing> t (m);
-  std::vector<double> now (m);
+  std::vector<double> now (m), cpu (m);
   for (int rep = 0; rep < warmup + repetitions; ++rep)
   {
     for (int k = 0; k < m; ++k)
     {
       const int i = (k + rep) % m; // rotate who goes first
+      const double c0 = processCpuMs ();
       const auto t0 = std::chrono::steady_clock::now ();
       runners[i]->run ();
       now[i] = std::chrono::duration<double, std::milli> (std::chrono::steady_clock::now () - t0).count ();
+      cpu[i] = processCpuMs () - c0;
     }
     if (rep >= warmup)
       for (int i = 0; i < m; ++i)
       {
         t[i].ms.push_back (now[i]);
+        t[i].cpu_ms.push_back (cpu[i]);
         if (reference >= 0)
+        {
           t[i].ratio.push_back (now[i] / now[reference]);
+          t[i].cpu_ratio.push_back (cpu[i] / cpu[reference]);
+        }
       }
     if (progress)
       progress (rep + 1, warmup + repetitions);
