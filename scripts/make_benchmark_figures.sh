@@ -3,29 +3,39 @@
 # the paper's Table 1 and Fig. 8, scaling) and draws its plots with gnuplot.
 #
 #   bash scripts/make_benchmark_figures.sh [extra pcl_texlet_bench options]
+#   PLOTS_ONLY=1 bash scripts/make_benchmark_figures.sh   # redraw from the last run's data
 #
-# Writes docs/benchmarks.json (every figure), docs/benchmarks.txt (the tables as printed) and
+# Writes docs/benchmarks.json (every figure), docs/benchmarks.txt (the tables as printed),
+# the plotted data in docs/images/benchmarks/data/ and
 # docs/images/benchmarks/{timing,fig8,scaling_texlets,scaling_radius}.png. BUILD selects the
-# build folder (default build/); the app must be built (scripts/build.sh). Takes about 10
-# minutes on 2 idle cores; more on a busy machine.
+# build folder (default build/); the app must be built (scripts/build.sh). Takes about 15
+# minutes on 2 busy cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build}
 APP="$BUILD/apps/pcl_texlet_bench/pcl_texlet_bench"
-[ -x "$APP" ] || { echo "make_benchmark_figures.sh: $APP is not built (run scripts/build.sh)" >&2; exit 2; }
 command -v gnuplot > /dev/null || { echo "make_benchmark_figures.sh: gnuplot is not installed" >&2; exit 2; }
 
 IMAGES=docs/images/benchmarks
-DATA=$(mktemp -d)
-trap 'rm -rf "$DATA"' EXIT
-mkdir -p "$IMAGES"
+DATA=$IMAGES/data
+mkdir -p "$DATA"
 
-# Everything in one run, so every ratio is measured under the same conditions.
-"$APP" --table1 --fig8 --scaling --json "$DATA/benchmarks.json" --data-dir "$DATA" "$@" | tee "$DATA/benchmarks.txt"
+if [ -z "${PLOTS_ONLY:-}" ]; then
+  [ -x "$APP" ] || { echo "make_benchmark_figures.sh: $APP is not built (run scripts/build.sh)" >&2; exit 2; }
+  RUN=$(mktemp -d)
+  trap 'rm -rf "$RUN"' EXIT
+  # Everything in one run, so every ratio is measured under the same conditions.
+  "$APP" --table1 --fig8 --scaling --json "$RUN/benchmarks.json" --data-dir "$RUN" "$@" | tee "$RUN/benchmarks.txt"
+  cp "$RUN"/*.dat "$DATA/"
+  # Renamed into place: no half-written result if the run failed.
+  cp "$RUN/benchmarks.json" docs/.benchmarks.json.tmp && mv docs/.benchmarks.json.tmp docs/benchmarks.json
+  cp "$RUN/benchmarks.txt" docs/.benchmarks.txt.tmp && mv docs/.benchmarks.txt.tmp docs/benchmarks.txt
+fi
 
-CPU=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
-THREADS=$(sed -n 's/.*"threads_used": \([0-9]*\).*/\1/p' "$DATA/benchmarks.json" | head -1)
-MACHINE="$CPU, $(nproc) cores, $THREADS threads"
+CPU=$(sed -n 's/.*"cpu": "\(.*\)",*$/\1/p' docs/benchmarks.json | head -1)
+CORES=$(sed -n 's/.*"hardware_threads": \([0-9]*\).*/\1/p' docs/benchmarks.json | head -1)
+THREADS=$(sed -n 's/.*"threads_used": \([0-9]*\).*/\1/p' docs/benchmarks.json | head -1)
+MACHINE="$CPU, $CORES cores, $THREADS threads"
 
 gnuplot <<EOF
 set terminal pngcairo size 1100,620 enhanced font "DejaVu Sans,11"
@@ -39,12 +49,16 @@ set ylabel "ms per frame (median; error bar: interquartile range)"
 set logscale y
 set style fill solid 0.5 border -1
 set xtics rotate by -35 left noenhanced
+set xrange [-0.6:12.6]
+set rmargin 20
 set bmargin 11
 set key top left
 plot "$DATA/timing.dat" using (\$1-0.18):3:4:5:(0.36):xtic(2) with boxerrorbars lc rgb "#4472c4" title "wall clock", \
      "" using (\$1+0.18):9:10:11:(0.36) with boxerrorbars lc rgb "#ed7d31" title "CPU time, all threads"
 unset logscale y
 set xtics norotate enhanced
+set autoscale x
+set rmargin
 set bmargin
 
 # --- the paper's Fig. 8 ------------------------------------------------------------------
@@ -84,7 +98,4 @@ plot "$DATA/scaling_radius.dat" using 2:6 with linespoints lw 2 title "texlets, 
      "" using 2:18 axes x1y2 with linespoints lw 2 dt 2 title "texlets, Monte Carlo 50 (right axis)"
 EOF
 
-# Written last, renamed into place: no half-written result if anything above failed.
-cp "$DATA/benchmarks.json" docs/.benchmarks.json.tmp && mv docs/.benchmarks.json.tmp docs/benchmarks.json
-cp "$DATA/benchmarks.txt" docs/.benchmarks.txt.tmp && mv docs/.benchmarks.txt.tmp docs/benchmarks.txt
-echo "make_benchmark_figures.sh: docs/benchmarks.json, docs/benchmarks.txt and $IMAGES/*.png written" >&2
+echo "make_benchmark_figures.sh: docs/benchmarks.json, docs/benchmarks.txt, $DATA/*.dat and $IMAGES/*.png written" >&2
