@@ -482,7 +482,7 @@ struct PaperRow
   double inliers_pct;
 };
 
-// Jensen et al., Table 1: 640x480, 20 RANSAC iterations, 50 Monte Carlo samples, a 2012 GPU.
+// Olesen et al., Table 1: 640x480, 20 RANSAC iterations, 50 Monte Carlo samples, a 2012 GPU.
 const PaperRow kPaperTable1[] = {
     {"spacing", 2, 6, 288.7, 38321, 61.8}, {"spacing", 6, 6, 89.8, 9814, 61.7},
     {"spacing", 8, 6, 33.1, 2430, 61.4},   {"radius", 6, 4, 68.1, 10715, 48.3},
