@@ -113,7 +113,9 @@ set style fill empty
 set title 'mean error along a wall tilted 5 degrees (central row, 30 frames)'
 set xlabel 'true depth (mm)'
 set ylabel 'mean reported - true depth (mm)'
-set key top left
+set xrange [1460:1540]
+set yrange [-5:5]
+set key bottom center horizontal
 plot d('disparity_quantization_staircase.dat') using 1:3 with lines ls 2 title 'base + quantisation', \
      '' using 1:2 with lines ls 1 title 'base noise', \
      '' using 1:4 with lines ls 13 title '+- half a step, z^2 (1/8) / (2 f b)', '' using 1:(-$4) with lines ls 13 notitle
@@ -248,7 +250,8 @@ plot d('intrinsics_row.dat') using 1:4 every 8 with points ls 2 title 'back-proj
 set title 'fitted tilt of a wall turned about the image y axis'
 set xlabel 'true tilt (degrees)'
 set ylabel 'fitted - true tilt (degrees)'
-set key top left
+set yrange [-0.5:3]
+set key bottom center
 plot d('intrinsics_tilt.dat') using 1:($3 - $1) with points ls 2 title 'camera.yaml intrinsics', \
      '' using 1:($4 - $1) with lines ls 12 title 'atan(1.088 tan(tilt)) - tilt', \
      '' using 1:($2 - $1) with points ls 1 title 'true intrinsics'
