@@ -250,8 +250,8 @@ plot d('intrinsics_row.dat') using 1:4 every 8 with points ls 2 title 'back-proj
 set title 'fitted tilt of a wall turned about the image y axis'
 set xlabel 'true tilt (degrees)'
 set ylabel 'fitted - true tilt (degrees)'
-set yrange [-0.5:3]
-set key bottom center
+set yrange [-0.8:3]
+set key at graph 0.98, graph 0.5 right top
 plot d('intrinsics_tilt.dat') using 1:($3 - $1) with points ls 2 title 'camera.yaml intrinsics', \
      '' using 1:($4 - $1) with lines ls 12 title 'atan(1.088 tan(tilt)) - tilt', \
      '' using 1:($2 - $1) with points ls 1 title 'true intrinsics'
