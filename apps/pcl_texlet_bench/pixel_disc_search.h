@@ -1,0 +1,119 @@
+/*
+ * pcl_texlet_bench: a pcl::search::Search that answers with a texlet's pixel neighbourhood.
+ *
+ * PCL's feature estimators find neighbours through a search object. To give
+ * pcl::NormalEstimationOMP exactly the points TexletEstimation uses, this search returns, for
+ * a query by index, the valid pixels of the disc of `radius` pixels around that pixel: the
+ * offsets of kernels::pixelDiscOffsets (the library's own disc), kept where inside the image
+ * and isValidDepthPoint (the library's own validity test), in the disc's row-by-row order.
+ * That is the set TexletWorker gathers before RANSAC. The k or radius that the estimator
+ * passes is ignored: the disc is the neighbourhood.
+ */
+#pragma once
+
+#include <pcl_texlet/kernels/pixel_disc.h>
+#include <pcl_texlet/valid_point.h>
+
+#include <pcl/exceptions.h>
+#include <pcl/search/search.h>
+
+#include <string>
+#include <vector>
+
+namespace pcl_texlet_bench
+{
+
+template <typename PointT>
+class PixelDiscSearch : public pcl::search::Search<PointT>
+{
+public:
+  using PointCloud = typename pcl::search::Search<PointT>::PointCloud;
+  using PointCloudConstPtr = typename pcl::search::Search<PointT>::PointCloudConstPtr;
+  using IndicesConstPtr = pcl::IndicesConstPtr;
+  using pcl::search::Search<PointT>::nearestKSearch;
+  using pcl::search::Search<PointT>::radiusSearch;
+
+  /** \param radius disc radius in pixels (>= 1) */
+  explicit PixelDiscSearch (int radius) : pcl::search::Search<PointT> ("PixelDiscSearch", false), radius_ (radius)
+  {
+    if (radius < 1)
+      throw pcl::BadArgumentException ("PixelDiscSearch: radius " + std::to_string (radius) + " px is not positive");
+    const int n = pcl::texlet::kernels::pixelDiscSize (radius);
+    du_.resize (n);
+    dv_.resize (n);
+    pcl::texlet::kernels::pixelDiscOffsets (radius, du_.data (), dv_.data (), n);
+  }
+
+  /** \brief Pixels in the full disc (valid or not). */
+  int
+  discSize () const { return static_cast<int> (du_.size ()); }
+
+  void
+  setInputCloud (const PointCloudConstPtr &cloud, const IndicesConstPtr &indices = IndicesConstPtr ()) override
+  {
+    if (!cloud || !cloud->isOrganized ())
+      throw pcl::UnorganizedPointCloudException ("PixelDiscSearch needs an organised cloud");
+    this->input_ = cloud;
+    this->indices_ = indices;
+  }
+
+  /** \brief The disc's valid pixels around pixel \a centre of \a cloud, with their squared
+    * metric distances to the centre point (0 when the centre itself is invalid).
+    */
+  int
+  disc (const PointCloud &cloud, pcl::index_t centre, pcl::Indices &indices, std::vector<float> &sqr_distances) const
+  {
+    indices.clear ();
+    sqr_distances.clear ();
+    const int w = static_cast<int> (cloud.width), h = static_cast<int> (cloud.height);
+    const int cu = static_cast<int> (centre % w), cv = static_cast<int> (centre / w);
+    const PointT &c = cloud[centre];
+    const bool centre_valid = pcl::texlet::isValidDepthPoint (c);
+    for (std::size_t o = 0; o < du_.size (); ++o)
+    {
+      const int u = cu + du_[o], v = cv + dv_[o];
+      if (u < 0 || v < 0 || u >= w || v >= h)
+        continue;
+      const PointT &p = cloud (u, v);
+      if (!pcl::texlet::isValidDepthPoint (p))
+        continue;
+      indices.push_back (static_cast<pcl::index_t> (v) * w + u);
+      const float dx = p.x - c.x, dy = p.y - c.y, dz = p.z - c.z;
+      sqr_distances.push_back (centre_valid ? dx * dx + dy * dy + dz * dz : 0.0f);
+    }
+    return static_cast<int> (indices.size ());
+  }
+
+  int
+  nearestKSearch (const PointCloud &cloud, pcl::index_t index, int, pcl::Indices &k_indices,
+                  std::vector<float> &k_sqr_distances) const override
+  {
+    return disc (cloud, index, k_indices, k_sqr_distances);
+  }
+
+  int
+  radiusSearch (const PointCloud &cloud, pcl::index_t index, double, pcl::Indices &k_indices,
+                std::vector<float> &k_sqr_distances, unsigned int = 0) const override
+  {
+    return disc (cloud, index, k_indices, k_sqr_distances);
+  }
+
+  /** A bare point carries no pixel position: only queries by index are answered. */
+  int
+  nearestKSearch (const PointT &, int, pcl::Indices &, std::vector<float> &) const override
+  {
+    throw pcl::PCLException ("PixelDiscSearch answers queries by pixel index only");
+  }
+
+  int
+  radiusSearch (const PointT &, double, pcl::Indices &, std::vector<float> &, unsigned int = 0) const override
+  {
+    throw pcl::PCLException ("PixelDiscSearch answers queries by pixel index only");
+  }
+
+private:
+  int radius_;
+  std::vector<int> du_, dv_;
+};
+
+} // namespace pcl_texlet_bench
