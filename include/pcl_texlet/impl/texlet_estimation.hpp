@@ -29,6 +29,14 @@ namespace texlet
 namespace detail
 {
 
+/** \brief kernels::computeTexlet in double precision, compiled into the library once per
+  * instruction-set level (src/texlet_estimation.cpp) so that it runs with the widest SIMD
+  * registers the processor has.
+  */
+PCL_EXPORTS void
+computeTexletKernel (const kernels::Neighbourhood<double> &nb, const kernels::TexletSettings<double> &settings,
+                     std::uint32_t texlet, unsigned char *mask, double *work, kernels::TexletResult<double> &out);
+
 /** \brief Depth SD in metres of a point at pixel (u, v) and depth z (metres). */
 inline double
 depthSigmaMetres (const NoiseModel &noise, const CameraModel &camera, int u, int v, double z)
@@ -60,7 +68,7 @@ public:
     x_.resize (n); y_.resize (n); z_.resize (n); s_.resize (n);
     pixel_.resize (n);
     mask_.resize (n);
-    work_.resize (3 * n);
+    work_.resize (kernels::texletWorkSize (n));
     settings_.ransac_iterations = params.ransac_iterations;
     settings_.fit = params.fit;
     settings_.uncertainty = params.uncertainty;
@@ -125,7 +133,7 @@ public:
                               : params_.threshold_sigmas * modelSigma (cu, cv, zsum / count);
 
     kernels::TexletResult<double> r;
-    kernels::computeTexlet (nb, settings_, static_cast<std::uint32_t> (centre), mask_.data (), work_.data (), r);
+    computeTexletKernel (nb, settings_, static_cast<std::uint32_t> (centre), mask_.data (), work_.data (), r);
     if (!r.ok)
       return fail (centre, out);
 

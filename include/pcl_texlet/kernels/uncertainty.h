@@ -13,6 +13,7 @@
 
 #include <pcl_texlet/kernels/config.h>
 #include <pcl_texlet/kernels/neighbourhood.h>
+#include <pcl_texlet/kernels/normal_blocks.h>
 #include <pcl_texlet/kernels/philox_rng.h>
 #include <pcl_texlet/kernels/plane_fit.h>
 #include <pcl_texlet/kernels/tangent_frame.h>
@@ -228,6 +229,100 @@ monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, con
     if (dot (N, N0) < S (0))
       N = -N;
     acc.add (P - P0, dot (N, t1), dot (N, t2));
+  }
+  acc.finish (cov_p, cov_n);
+}
+
+/** \brief Scratch values monteCarloPcaCovariance() needs for \a count points. */
+PCL_TEXLET_HD int
+monteCarloPcaWorkSize (int count)
+{
+  return 6 * ((count + 3) / 4) * 4;
+}
+
+/** \brief Monte Carlo covariances of a PCA fit: the same samples as monteCarloCovariance()
+  * with PlaneFitMethod::PCA (draws from Philox counters (seed, texlet, sample, point block)),
+  * to floating-point rounding, computed faster.
+  *
+  * A sample moves inlier k along its ray, p_k (1 + g_k sigma_k / z_k), so its offset from P0 is
+  * q_k + g_k a_k with q_k = p_k - P0 and a_k = (sigma_k / z_k) p_k, precomputed once per texlet
+  * (zero for outliers, which then add nothing). The normals come block-parallel from
+  * normalBlocks(); the moments are summed in four lanes (one per point of a Philox block) that
+  * the compiler keeps in SIMD registers; the re-fit's eigenvectors are found by Jacobi rotations
+  * from those of the measured fit, \a fit, which is close to every sample's.
+  * \param work scratch of monteCarloPcaWorkSize (nb.count) values
+  */
+template <typename S> PCL_TEXLET_HD void
+monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit, int samples,
+                         std::uint32_t seed, std::uint32_t texlet, const Vec3<S> &N0, const Vec3<S> &t1,
+                         const Vec3<S> &t2, S *work, S cov_p[6], S cov_n[3])
+{
+  const int blocks = (nb.count + 3) / 4, padded = 4 * blocks;
+  S *qx = work, *qy = work + padded, *qz = work + 2 * padded;
+  S *ax = work + 3 * padded, *ay = work + 4 * padded, *az = work + 5 * padded;
+  const Vec3<S> P0 = fit.P;
+  int n = 0;
+  for (int k = 0; k < padded; ++k)
+  {
+    if (k < nb.count && mask[k])
+    {
+      const Vec3<S> p = nb.point (k), q = p - P0;
+      const S f = nb.sigma[k] / nb.z[k];
+      qx[k] = q.x; qy[k] = q.y; qz[k] = q.z;
+      ax[k] = f * p.x; ay[k] = f * p.y; az[k] = f * p.z;
+      ++n;
+    }
+    else
+      qx[k] = qy[k] = qz[k] = ax[k] = ay[k] = az[k] = S (0);
+  }
+  const Vec3<S> basis[3] = {fit.N, fit.e1, fit.e2};
+  const S inv_n = S (1) / S (n);
+
+  constexpr int chunk = 32; // Philox blocks per batch of normals (128 points)
+  std::uint32_t words[4 * chunk];
+  S g[4 * chunk];
+  SampleCovariance<S> acc;
+  acc.reset ();
+  for (int s = 0; s < samples; ++s)
+  {
+    // Moments of the sample's offsets from P0, one lane per point of a block.
+    S sx[4] = {0, 0, 0, 0}, sy[4] = {0, 0, 0, 0}, sz[4] = {0, 0, 0, 0};
+    S sxx[4] = {0, 0, 0, 0}, sxy[4] = {0, 0, 0, 0}, sxz[4] = {0, 0, 0, 0};
+    S syy[4] = {0, 0, 0, 0}, syz[4] = {0, 0, 0, 0}, szz[4] = {0, 0, 0, 0};
+    for (int first = 0; first < blocks; first += chunk)
+    {
+      const int nblk = blocks - first < chunk ? blocks - first : chunk;
+      normalBlocks (seed, texlet, static_cast<std::uint32_t> (s), first, nblk, words, g);
+      const int k0 = 4 * first;
+      for (int b = 0; b < nblk; ++b)
+        for (int i = 0; i < 4; ++i)
+        {
+          const int k = k0 + 4 * b + i;
+          const S gk = g[4 * b + i];
+          const S dx = qx[k] + gk * ax[k], dy = qy[k] + gk * ay[k], dz = qz[k] + gk * az[k];
+          sx[i] += dx; sy[i] += dy; sz[i] += dz;
+          sxx[i] += dx * dx; sxy[i] += dx * dy; sxz[i] += dx * dz;
+          syy[i] += dy * dy; syz[i] += dy * dz; szz[i] += dz * dz;
+        }
+    }
+    const S m[3] = {((sx[0] + sx[1]) + (sx[2] + sx[3])) * inv_n, ((sy[0] + sy[1]) + (sy[2] + sy[3])) * inv_n,
+                    ((sz[0] + sz[1]) + (sz[2] + sz[3])) * inv_n};
+    const S c[6] = {((sxx[0] + sxx[1]) + (sxx[2] + sxx[3])) * inv_n - m[0] * m[0],
+                    ((sxy[0] + sxy[1]) + (sxy[2] + sxy[3])) * inv_n - m[0] * m[1],
+                    ((sxz[0] + sxz[1]) + (sxz[2] + sxz[3])) * inv_n - m[0] * m[2],
+                    ((syy[0] + syy[1]) + (syy[2] + syy[3])) * inv_n - m[1] * m[1],
+                    ((syz[0] + syz[1]) + (syz[2] + syz[3])) * inv_n - m[1] * m[2],
+                    ((szz[0] + szz[1]) + (szz[2] + szz[3])) * inv_n - m[2] * m[2]};
+    // The re-fit as fitPlanePca() does it: no plane for (nearly) collinear points.
+    SymEigen3<S> eig;
+    if (!symmetricEigen3Near (c, basis, eig) && !symmetricEigen3 (c, eig))
+      continue;
+    if (!(eig.values[1] > collinearityLimit<S> () * eig.values[2]))
+      continue;
+    Vec3<S> N = eig.vectors[0];
+    if (dot (N, N0) < S (0))
+      N = -N;
+    acc.add (make3 (m[0], m[1], m[2]), dot (N, t1), dot (N, t2));
   }
   acc.finish (cov_p, cov_n);
 }
