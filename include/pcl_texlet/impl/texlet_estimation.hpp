@@ -65,6 +65,9 @@ public:
     du_.resize (n);
     dv_.resize (n);
     kernels::pixelDiscOffsets (params.radius, du_.data (), dv_.data (), n);
+    offset_.resize (n);
+    for (int o = 0; o < n; ++o)
+      offset_[o] = static_cast<std::ptrdiff_t> (dv_[o]) * cloud.width + du_[o];
     x_.resize (n); y_.resize (n); z_.resize (n); s_.resize (n);
     pixel_.resize (n);
     mask_.resize (n);
@@ -85,21 +88,37 @@ public:
     const int w = static_cast<int> (cloud_.width), h = static_cast<int> (cloud_.height);
     const int cu = static_cast<int> (centre % w), cv = static_cast<int> (centre / w);
     kernels::Neighbourhood<double> nb;
+    const bool need_sigma = params_.uncertainty != UncertaintyMethod::None;
     int count = 0;
     double zsum = 0.0;
-    for (std::size_t o = 0; o < du_.size (); ++o)
-    {
-      const int u = cu + du_[o], v = cv + dv_[o];
-      if (u < 0 || v < 0 || u >= w || v >= h)
-        continue;
-      const PointInT &p = cloud_ (u, v);
-      if (!isValidDepthPoint (p))
-        continue;
+    const auto take = [&] (const PointInT &p, int pixel) {
       x_[count] = p.x; y_[count] = p.y; z_[count] = p.z;
-      pixel_[count] = v * w + u;
+      pixel_[count] = pixel;
       zsum += p.z;
       ++count;
+    };
+    const int rad = params_.radius;
+    if (cu >= rad && cv >= rad && cu + rad < w && cv + rad < h)
+    {
+      // The disc lies inside the image: no bounds checks, pixels by their linear offsets.
+      const PointInT *base = &cloud_[centre];
+      for (std::size_t o = 0; o < offset_.size (); ++o)
+      {
+        const PointInT &p = base[offset_[o]];
+        if (isValidDepthPoint (p))
+          take (p, static_cast<int> (centre + offset_[o]));
+      }
     }
+    else
+      for (std::size_t o = 0; o < du_.size (); ++o)
+      {
+        const int u = cu + du_[o], v = cv + dv_[o];
+        if (u < 0 || v < 0 || u >= w || v >= h)
+          continue;
+        const PointInT &p = cloud_ (u, v);
+        if (isValidDepthPoint (p))
+          take (p, v * w + u);
+      }
     nb.x = x_.data (); nb.y = y_.data (); nb.z = z_.data ();
     nb.count = count;
     if (count == 0)
@@ -122,10 +141,13 @@ public:
       nb.ring_valid[k] = true;
       nb.ring_sigma[k] = sigmaAt (u, v, p.z);
     }
-    if (params_.uncertainty != UncertaintyMethod::None)
+    if (need_sigma)
     {
       for (int i = 0; i < count; ++i)
-        s_[i] = sigmaAt (pixel_[i] % w, pixel_[i] / w, z_[i]);
+      {
+        const double s = sigma_m_ ? sigma_m_[pixel_[i]] : std::numeric_limits<double>::quiet_NaN ();
+        s_[i] = std::isfinite (s) ? s : modelSigma (pixel_[i] % w, pixel_[i] / w, z_[i]);
+      }
       nb.sigma = s_.data ();
     }
     settings_.threshold = params_.ransac_threshold > 0.0
@@ -224,6 +246,7 @@ private:
   const double *sigma_m_;
   kernels::TexletSettings<double> settings_;
   std::vector<int> du_, dv_;
+  std::vector<std::ptrdiff_t> offset_; // dv * width + du of each disc pixel
   std::vector<double> x_, y_, z_, s_, work_;
   std::vector<int> pixel_;
   std::vector<unsigned char> mask_;

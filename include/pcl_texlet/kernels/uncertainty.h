@@ -18,6 +18,8 @@
 #include <pcl_texlet/kernels/plane_fit.h>
 #include <pcl_texlet/kernels/tangent_frame.h>
 
+#include <cstring>
+
 namespace pcl
 {
 namespace texlet
@@ -33,43 +35,59 @@ fillNaN (S *c, int n)
     c[i] = S (NAN);
 }
 
-/** \brief First-order covariances of a PCA or SVD fit of the inliers (mask) of \a nb. */
+/** \brief Adds point \a k's first-order terms to lane sums (see analyticPlaneCovariance). */
+template <typename S> PCL_TEXLET_HD void
+analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k, const PlaneFit<S> &fit, S inv_d1,
+                    S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S cp[6], S cn[3])
+{
+  const Vec3<S> p = nb.point (k);
+  const Vec3<S> r = (S (1) / p.z) * p; // dp = r dz
+  const Vec3<S> q = p - fit.P;
+  const S var = mask[k] ? nb.sigma[k] * nb.sigma[k] : S (0);
+  cp[0] += var * r.x * r.x; cp[1] += var * r.x * r.y; cp[2] += var * r.x * r.z;
+  cp[3] += var * r.y * r.y; cp[4] += var * r.y * r.z; cp[5] += var * r.z * r.z;
+  const S h = dot (q, fit.N), re0 = dot (r, fit.N);
+  const S c1 = -(dot (fit.e1, r) * h + dot (fit.e1, q) * re0) * inv_d1;
+  const S c2 = -(dot (fit.e2, r) * h + dot (fit.e2, q) * re0) * inv_d2;
+  const S j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
+  cn[0] += var * j1 * j1;
+  cn[1] += var * j1 * j2;
+  cn[2] += var * j2 * j2;
+}
+
+/** \brief First-order covariances of a PCA or SVD fit of the inliers (mask) of \a nb.
+  * Points are summed in four interleaved lanes, which the compiler keeps in SIMD registers.
+  */
 template <typename S> PCL_TEXLET_HD void
 analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit,
                          const Vec3<S> &t1, const Vec3<S> &t2, S cov_p[6], S cov_n[3])
 {
-  S n_in = 0;
+  int n_in = 0;
   for (int k = 0; k < nb.count; ++k)
-    n_in += mask[k] ? S (1) : S (0);
-  const Vec3<S> e0 = fit.N;
-  const S d1 = n_in * (fit.lambda[1] - fit.lambda[0]), d2 = n_in * (fit.lambda[2] - fit.lambda[0]);
+    n_in += mask[k] ? 1 : 0;
+  const S d1 = S (n_in) * (fit.lambda[1] - fit.lambda[0]), d2 = S (n_in) * (fit.lambda[2] - fit.lambda[0]);
+  const S inv_d1 = S (1) / d1, inv_d2 = S (1) / d2;
   // Where the tangents point in the eigenbasis: de0 = c1 e1 + c2 e2 -> (de0.t1, de0.t2).
   const S e1t1 = dot (fit.e1, t1), e1t2 = dot (fit.e1, t2), e2t1 = dot (fit.e2, t1), e2t2 = dot (fit.e2, t2);
-  for (int i = 0; i < 6; ++i)
-    cov_p[i] = S (0);
-  for (int i = 0; i < 3; ++i)
-    cov_n[i] = S (0);
-  for (int k = 0; k < nb.count; ++k)
+  S cp[4][6], cn[4][3];
+  for (int i = 0; i < 4; ++i)
   {
-    if (!mask[k])
-      continue;
-    const Vec3<S> p = nb.point (k);
-    const Vec3<S> r = (S (1) / p.z) * p; // dp = r dz
-    const Vec3<S> q = p - fit.P;
-    const S var = nb.sigma[k] * nb.sigma[k];
-    cov_p[0] += var * r.x * r.x; cov_p[1] += var * r.x * r.y; cov_p[2] += var * r.x * r.z;
-    cov_p[3] += var * r.y * r.y; cov_p[4] += var * r.y * r.z; cov_p[5] += var * r.z * r.z;
-    const S h = dot (q, e0), re0 = dot (r, e0);
-    const S c1 = -(dot (fit.e1, r) * h + dot (fit.e1, q) * re0) / d1;
-    const S c2 = -(dot (fit.e2, r) * h + dot (fit.e2, q) * re0) / d2;
-    const S j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
-    cov_n[0] += var * j1 * j1;
-    cov_n[1] += var * j1 * j2;
-    cov_n[2] += var * j2 * j2;
+    for (int j = 0; j < 6; ++j)
+      cp[i][j] = S (0);
+    for (int j = 0; j < 3; ++j)
+      cn[i][j] = S (0);
   }
-  const S inv_n2 = S (1) / (n_in * n_in);
-  for (int i = 0; i < 6; ++i)
-    cov_p[i] *= inv_n2;
+  const int full = nb.count & ~3;
+  for (int k = 0; k < full; k += 4)
+    for (int i = 0; i < 4; ++i)
+      analyticPlaneTerms (nb, mask, k + i, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, cp[i], cn[i]);
+  for (int k = full; k < nb.count; ++k)
+    analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, cp[k - full], cn[k - full]);
+  const S inv_n2 = S (1) / (S (n_in) * S (n_in));
+  for (int j = 0; j < 6; ++j)
+    cov_p[j] = ((cp[0][j] + cp[1][j]) + (cp[2][j] + cp[3][j])) * inv_n2;
+  for (int j = 0; j < 3; ++j)
+    cov_n[j] = (cn[0][j] + cn[1][j]) + (cn[2][j] + cn[3][j]);
 }
 
 /** \brief First-order covariances of normal averaging (P is the centre point), by central
@@ -233,6 +251,73 @@ monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, con
   acc.finish (cov_p, cov_n);
 }
 
+/** \brief Sums of offsets d_i = q_i + g_i a_i and of their products over points, in four
+  * lanes (one per point of a Philox block) so that they map onto SIMD registers: with GCC or
+  * Clang on the host as vector types, elsewhere as plain arrays; the arithmetic is the same.
+  */
+template <typename S>
+struct PointMomentLanes
+{
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+  Lane sx = {}, sy = {}, sz = {}, sxx = {}, sxy = {}, sxz = {}, syy = {}, syz = {}, szz = {};
+
+  /** \brief Adds the four points at q[0..3] + g[0..3] a[0..3]. */
+  void
+  add (const S *qx, const S *qy, const S *qz, const S *ax, const S *ay, const S *az, const S *g)
+  {
+    Lane gk, x, y, z, u, v, w; // memcpy: unaligned loads, and no vector passed by value (ABI)
+    std::memcpy (&gk, g, sizeof gk);
+    std::memcpy (&x, qx, sizeof x); std::memcpy (&y, qy, sizeof y); std::memcpy (&z, qz, sizeof z);
+    std::memcpy (&u, ax, sizeof u); std::memcpy (&v, ay, sizeof v); std::memcpy (&w, az, sizeof w);
+    const Lane dx = x + gk * u, dy = y + gk * v, dz = z + gk * w;
+    sx += dx; sy += dy; sz += dz;
+    sxx += dx * dx; sxy += dx * dy; sxz += dx * dz;
+    syy += dy * dy; syz += dy * dz; szz += dz * dz;
+  }
+
+  static S
+  total (const Lane &v)
+  {
+    S l[4];
+    std::memcpy (l, &v, sizeof l);
+    return (l[0] + l[1]) + (l[2] + l[3]);
+  }
+#else
+  S sx[4] = {}, sy[4] = {}, sz[4] = {}, sxx[4] = {}, sxy[4] = {}, sxz[4] = {}, syy[4] = {}, syz[4] = {}, szz[4] = {};
+
+  PCL_TEXLET_HD void
+  add (const S *qx, const S *qy, const S *qz, const S *ax, const S *ay, const S *az, const S *g)
+  {
+    for (int i = 0; i < 4; ++i)
+    {
+      const S dx = qx[i] + g[i] * ax[i], dy = qy[i] + g[i] * ay[i], dz = qz[i] + g[i] * az[i];
+      sx[i] += dx; sy[i] += dy; sz[i] += dz;
+      sxx[i] += dx * dx; sxy[i] += dx * dy; sxz[i] += dx * dz;
+      syy[i] += dy * dy; syz[i] += dy * dz; szz[i] += dz * dz;
+    }
+  }
+
+  static PCL_TEXLET_HD S
+  total (const S v[4]) { return (v[0] + v[1]) + (v[2] + v[3]); }
+#endif
+
+  /** \brief Mean offset \a m and (1/n) covariance \a c (packed) of the n points added. */
+  PCL_TEXLET_HD void
+  moments (S inv_n, S m[3], S c[6]) const
+  {
+    m[0] = total (sx) * inv_n;
+    m[1] = total (sy) * inv_n;
+    m[2] = total (sz) * inv_n;
+    c[0] = total (sxx) * inv_n - m[0] * m[0];
+    c[1] = total (sxy) * inv_n - m[0] * m[1];
+    c[2] = total (sxz) * inv_n - m[0] * m[2];
+    c[3] = total (syy) * inv_n - m[1] * m[1];
+    c[4] = total (syz) * inv_n - m[1] * m[2];
+    c[5] = total (szz) * inv_n - m[2] * m[2];
+  }
+};
+
 /** \brief Scratch values monteCarloPcaCovariance() needs for \a count points. */
 PCL_TEXLET_HD int
 monteCarloPcaWorkSize (int count)
@@ -286,33 +371,20 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   for (int s = 0; s < samples; ++s)
   {
     // Moments of the sample's offsets from P0, one lane per point of a block.
-    S sx[4] = {0, 0, 0, 0}, sy[4] = {0, 0, 0, 0}, sz[4] = {0, 0, 0, 0};
-    S sxx[4] = {0, 0, 0, 0}, sxy[4] = {0, 0, 0, 0}, sxz[4] = {0, 0, 0, 0};
-    S syy[4] = {0, 0, 0, 0}, syz[4] = {0, 0, 0, 0}, szz[4] = {0, 0, 0, 0};
-    for (int first = 0; first < blocks; first += chunk)
+    S m[3], c[6];
     {
-      const int nblk = blocks - first < chunk ? blocks - first : chunk;
-      normalBlocks (seed, texlet, static_cast<std::uint32_t> (s), first, nblk, words, g);
-      const int k0 = 4 * first;
-      for (int b = 0; b < nblk; ++b)
-        for (int i = 0; i < 4; ++i)
-        {
-          const int k = k0 + 4 * b + i;
-          const S gk = g[4 * b + i];
-          const S dx = qx[k] + gk * ax[k], dy = qy[k] + gk * ay[k], dz = qz[k] + gk * az[k];
-          sx[i] += dx; sy[i] += dy; sz[i] += dz;
-          sxx[i] += dx * dx; sxy[i] += dx * dy; sxz[i] += dx * dz;
-          syy[i] += dy * dy; syz[i] += dy * dz; szz[i] += dz * dz;
-        }
+      PointMomentLanes<S> lanes;
+      for (int first = 0; first < blocks; first += chunk)
+      {
+        const int nblk = blocks - first < chunk ? blocks - first : chunk;
+        normalBlocks (seed, texlet, static_cast<std::uint32_t> (s), first, nblk, words, g);
+        const int k0 = 4 * first;
+        for (int b = 0; b < nblk; ++b)
+          lanes.add (qx + k0 + 4 * b, qy + k0 + 4 * b, qz + k0 + 4 * b, ax + k0 + 4 * b, ay + k0 + 4 * b,
+                     az + k0 + 4 * b, g + 4 * b);
+      }
+      lanes.moments (inv_n, m, c);
     }
-    const S m[3] = {((sx[0] + sx[1]) + (sx[2] + sx[3])) * inv_n, ((sy[0] + sy[1]) + (sy[2] + sy[3])) * inv_n,
-                    ((sz[0] + sz[1]) + (sz[2] + sz[3])) * inv_n};
-    const S c[6] = {((sxx[0] + sxx[1]) + (sxx[2] + sxx[3])) * inv_n - m[0] * m[0],
-                    ((sxy[0] + sxy[1]) + (sxy[2] + sxy[3])) * inv_n - m[0] * m[1],
-                    ((sxz[0] + sxz[1]) + (sxz[2] + sxz[3])) * inv_n - m[0] * m[2],
-                    ((syy[0] + syy[1]) + (syy[2] + syy[3])) * inv_n - m[1] * m[1],
-                    ((syz[0] + syz[1]) + (syz[2] + syz[3])) * inv_n - m[1] * m[2],
-                    ((szz[0] + szz[1]) + (szz[2] + szz[3])) * inv_n - m[2] * m[2]};
     // The re-fit as fitPlanePca() does it: no plane for (nearly) collinear points.
     SymEigen3<S> eig;
     if (!symmetricEigen3Near (c, basis, eig) && !symmetricEigen3 (c, eig))
