@@ -393,12 +393,12 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
   const int threads = threads_ == 0 ? omp_get_num_procs () : static_cast<int> (threads_);
 #endif
 
-  std::size_t valid = 0;
-#pragma omp parallel for num_threads(threads) reduction(+ : valid) schedule(static)
-  for (int v = 0; v < h; ++v)
-    for (int u = 0; u < w; ++u)
-      valid += texlet::isValidDepthPoint (cloud (u, v)) ? 1 : 0;
-  if (valid == 0)
+  // Is there a valid point at all? The first one ends the search (a real frame has one in
+  // its first rows), so this costs next to nothing.
+  bool any_valid = false;
+  for (std::size_t i = 0; i < cloud.size () && !any_valid; ++i)
+    any_valid = texlet::isValidDepthPoint (cloud[i]);
+  if (!any_valid)
     throw pcl::ComputeFailedException ("pcl::TexletEstimation: the input cloud has no valid point (all depth is "
                                        "invalid: NaN, infinite or not in front of the camera)");
 
@@ -406,26 +406,27 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
   if (!camera)
     camera = std::make_shared<texlet::PinholeModel> (texlet::estimatePinholeModel (cloud));
 
-  // Per-pixel depth SD, once per frame: pixels are shared by the overlapping discs.
+  // Per-pixel depth SD, once per frame (pixels are shared by the overlapping discs), in the
+  // same parallel region as the texlets: one fork and join per frame.
   const bool need_sigma = params_.uncertainty != texlet::UncertaintyMethod::None;
   if (need_sigma)
-  {
-    sigma_image_.assign (cloud.size (), std::numeric_limits<double>::quiet_NaN ());
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (int v = 0; v < h; ++v)
-      for (int u = 0; u < w; ++u)
-      {
-        const PointInT &p = cloud (u, v);
-        if (texlet::isValidDepthPoint (p))
-          sigma_image_[static_cast<std::size_t> (v) * w + u] =
-              texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z);
-      }
-  }
-
+    sigma_image_.resize (cloud.size ());
   const auto n = static_cast<std::ptrdiff_t> (indices_->size ());
   std::size_t made = 0;
 #pragma omp parallel num_threads(threads) reduction(+ : made)
   {
+    if (need_sigma)
+    {
+#pragma omp for schedule(static)
+      for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u)
+        {
+          const PointInT &p = cloud (u, v);
+          sigma_image_[static_cast<std::size_t> (v) * w + u] =
+              texlet::isValidDepthPoint (p) ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z)
+                                            : std::numeric_limits<double>::quiet_NaN ();
+        }
+    }
     texlet::detail::TexletWorker<PointInT> worker (cloud, params_, *camera, noise_,
                                                    need_sigma ? sigma_image_.data () : nullptr);
 #pragma omp for schedule(dynamic, 64)

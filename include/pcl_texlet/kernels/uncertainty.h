@@ -78,9 +78,48 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       cn[i][j] = S (0);
   }
   const int full = nb.count & ~3;
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  // The same terms as analyticPlaneTerms, four points at a time in vector types.
+  typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+  Lane lp[6] = {}, ln[3] = {};
+  for (int k = 0; k < full; k += 4)
+  {
+    Lane px, py, pz, sd;
+    std::memcpy (&px, nb.x + k, sizeof px);
+    std::memcpy (&py, nb.y + k, sizeof py);
+    std::memcpy (&pz, nb.z + k, sizeof pz);
+    std::memcpy (&sd, nb.sigma + k, sizeof sd);
+    Lane use;
+    for (int i = 0; i < 4; ++i)
+      use[i] = mask[k + i] ? S (1) : S (0);
+    const Lane iz = S (1) / pz;
+    const Lane rx = iz * px, ry = iz * py, rz = iz * pz;
+    const Lane qx = px - fit.P.x, qy = py - fit.P.y, qz = pz - fit.P.z;
+    const Lane var = use * (sd * sd);
+    lp[0] += var * rx * rx; lp[1] += var * rx * ry; lp[2] += var * rx * rz;
+    lp[3] += var * ry * ry; lp[4] += var * ry * rz; lp[5] += var * rz * rz;
+    const Lane h = qx * fit.N.x + qy * fit.N.y + qz * fit.N.z, re0 = rx * fit.N.x + ry * fit.N.y + rz * fit.N.z;
+    const Lane c1 = -((rx * fit.e1.x + ry * fit.e1.y + rz * fit.e1.z) * h +
+                      (qx * fit.e1.x + qy * fit.e1.y + qz * fit.e1.z) * re0) * inv_d1;
+    const Lane c2 = -((rx * fit.e2.x + ry * fit.e2.y + rz * fit.e2.z) * h +
+                      (qx * fit.e2.x + qy * fit.e2.y + qz * fit.e2.z) * re0) * inv_d2;
+    const Lane j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
+    ln[0] += var * j1 * j1;
+    ln[1] += var * j1 * j2;
+    ln[2] += var * j2 * j2;
+  }
+  for (int i = 0; i < 4; ++i)
+  {
+    for (int j = 0; j < 6; ++j)
+      cp[i][j] = lp[j][i];
+    for (int j = 0; j < 3; ++j)
+      cn[i][j] = ln[j][i];
+  }
+#else
   for (int k = 0; k < full; k += 4)
     for (int i = 0; i < 4; ++i)
       analyticPlaneTerms (nb, mask, k + i, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, cp[i], cn[i]);
+#endif
   for (int k = full; k < nb.count; ++k)
     analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, cp[k - full], cn[k - full]);
   const S inv_n2 = S (1) / (S (n_in) * S (n_in));
