@@ -416,7 +416,10 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       for (int first = 0; first < blocks; first += chunk)
       {
         const int nblk = blocks - first < chunk ? blocks - first : chunk;
-        normalBlocks (seed, texlet, static_cast<std::uint32_t> (s), first, nblk, words, g);
+        // Draws for a whole number of 8-block SIMD steps (the spare ones go unused): no
+        // scalar remainder loop.
+        const int ndraw = (nblk + 7) / 8 * 8;
+        normalBlocks (seed, texlet, static_cast<std::uint32_t> (s), first, ndraw, words, g);
         const int k0 = 4 * first;
         for (int b = 0; b < nblk; ++b)
           lanes.add (qx + k0 + 4 * b, qy + k0 + 4 * b, qz + k0 + 4 * b, ax + k0 + 4 * b, ay + k0 + 4 * b,
