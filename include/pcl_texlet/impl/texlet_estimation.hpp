@@ -29,6 +29,14 @@ namespace texlet
 namespace detail
 {
 
+/** \brief kernels::computeTexlet in double precision, compiled into the library once per
+  * instruction-set level (src/texlet_estimation.cpp) so that it runs with the widest SIMD
+  * registers the processor has.
+  */
+PCL_EXPORTS void
+computeTexletKernel (const kernels::Neighbourhood<double> &nb, const kernels::TexletSettings<double> &settings,
+                     std::uint32_t texlet, unsigned char *mask, double *work, kernels::TexletResult<double> &out);
+
 /** \brief Depth SD in metres of a point at pixel (u, v) and depth z (metres). */
 inline double
 depthSigmaMetres (const NoiseModel &noise, const CameraModel &camera, int u, int v, double z)
@@ -57,10 +65,13 @@ public:
     du_.resize (n);
     dv_.resize (n);
     kernels::pixelDiscOffsets (params.radius, du_.data (), dv_.data (), n);
+    offset_.resize (n);
+    for (int o = 0; o < n; ++o)
+      offset_[o] = static_cast<std::ptrdiff_t> (dv_[o]) * cloud.width + du_[o];
     x_.resize (n); y_.resize (n); z_.resize (n); s_.resize (n);
     pixel_.resize (n);
     mask_.resize (n);
-    work_.resize (3 * n);
+    work_.resize (kernels::texletWorkSize (n));
     settings_.ransac_iterations = params.ransac_iterations;
     settings_.fit = params.fit;
     settings_.uncertainty = params.uncertainty;
@@ -77,21 +88,37 @@ public:
     const int w = static_cast<int> (cloud_.width), h = static_cast<int> (cloud_.height);
     const int cu = static_cast<int> (centre % w), cv = static_cast<int> (centre / w);
     kernels::Neighbourhood<double> nb;
+    const bool need_sigma = params_.uncertainty != UncertaintyMethod::None;
     int count = 0;
     double zsum = 0.0;
-    for (std::size_t o = 0; o < du_.size (); ++o)
-    {
-      const int u = cu + du_[o], v = cv + dv_[o];
-      if (u < 0 || v < 0 || u >= w || v >= h)
-        continue;
-      const PointInT &p = cloud_ (u, v);
-      if (!isValidDepthPoint (p))
-        continue;
+    const auto take = [&] (const PointInT &p, int pixel) {
       x_[count] = p.x; y_[count] = p.y; z_[count] = p.z;
-      pixel_[count] = v * w + u;
+      pixel_[count] = pixel;
       zsum += p.z;
       ++count;
+    };
+    const int rad = params_.radius;
+    if (cu >= rad && cv >= rad && cu + rad < w && cv + rad < h)
+    {
+      // The disc lies inside the image: no bounds checks, pixels by their linear offsets.
+      const PointInT *base = &cloud_[centre];
+      for (std::size_t o = 0; o < offset_.size (); ++o)
+      {
+        const PointInT &p = base[offset_[o]];
+        if (isValidDepthPoint (p))
+          take (p, static_cast<int> (centre + offset_[o]));
+      }
     }
+    else
+      for (std::size_t o = 0; o < du_.size (); ++o)
+      {
+        const int u = cu + du_[o], v = cv + dv_[o];
+        if (u < 0 || v < 0 || u >= w || v >= h)
+          continue;
+        const PointInT &p = cloud_ (u, v);
+        if (isValidDepthPoint (p))
+          take (p, v * w + u);
+      }
     nb.x = x_.data (); nb.y = y_.data (); nb.z = z_.data ();
     nb.count = count;
     if (count == 0)
@@ -114,10 +141,13 @@ public:
       nb.ring_valid[k] = true;
       nb.ring_sigma[k] = sigmaAt (u, v, p.z);
     }
-    if (params_.uncertainty != UncertaintyMethod::None)
+    if (need_sigma)
     {
       for (int i = 0; i < count; ++i)
-        s_[i] = sigmaAt (pixel_[i] % w, pixel_[i] / w, z_[i]);
+      {
+        const double s = sigma_m_ ? sigma_m_[pixel_[i]] : std::numeric_limits<double>::quiet_NaN ();
+        s_[i] = std::isfinite (s) ? s : modelSigma (pixel_[i] % w, pixel_[i] / w, z_[i]);
+      }
       nb.sigma = s_.data ();
     }
     settings_.threshold = params_.ransac_threshold > 0.0
@@ -125,7 +155,7 @@ public:
                               : params_.threshold_sigmas * modelSigma (cu, cv, zsum / count);
 
     kernels::TexletResult<double> r;
-    kernels::computeTexlet (nb, settings_, static_cast<std::uint32_t> (centre), mask_.data (), work_.data (), r);
+    computeTexletKernel (nb, settings_, static_cast<std::uint32_t> (centre), mask_.data (), work_.data (), r);
     if (!r.ok)
       return fail (centre, out);
 
@@ -216,6 +246,7 @@ private:
   const double *sigma_m_;
   kernels::TexletSettings<double> settings_;
   std::vector<int> du_, dv_;
+  std::vector<std::ptrdiff_t> offset_; // dv * width + du of each disc pixel
   std::vector<double> x_, y_, z_, s_, work_;
   std::vector<int> pixel_;
   std::vector<unsigned char> mask_;
@@ -362,12 +393,12 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
   const int threads = threads_ == 0 ? omp_get_num_procs () : static_cast<int> (threads_);
 #endif
 
-  std::size_t valid = 0;
-#pragma omp parallel for num_threads(threads) reduction(+ : valid) schedule(static)
-  for (int v = 0; v < h; ++v)
-    for (int u = 0; u < w; ++u)
-      valid += texlet::isValidDepthPoint (cloud (u, v)) ? 1 : 0;
-  if (valid == 0)
+  // Is there a valid point at all? The first one ends the search (a real frame has one in
+  // its first rows), so this costs next to nothing.
+  bool any_valid = false;
+  for (std::size_t i = 0; i < cloud.size () && !any_valid; ++i)
+    any_valid = texlet::isValidDepthPoint (cloud[i]);
+  if (!any_valid)
     throw pcl::ComputeFailedException ("pcl::TexletEstimation: the input cloud has no valid point (all depth is "
                                        "invalid: NaN, infinite or not in front of the camera)");
 
@@ -375,26 +406,27 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
   if (!camera)
     camera = std::make_shared<texlet::PinholeModel> (texlet::estimatePinholeModel (cloud));
 
-  // Per-pixel depth SD, once per frame: pixels are shared by the overlapping discs.
+  // Per-pixel depth SD, once per frame (pixels are shared by the overlapping discs), in the
+  // same parallel region as the texlets: one fork and join per frame.
   const bool need_sigma = params_.uncertainty != texlet::UncertaintyMethod::None;
   if (need_sigma)
-  {
-    sigma_image_.assign (cloud.size (), std::numeric_limits<double>::quiet_NaN ());
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (int v = 0; v < h; ++v)
-      for (int u = 0; u < w; ++u)
-      {
-        const PointInT &p = cloud (u, v);
-        if (texlet::isValidDepthPoint (p))
-          sigma_image_[static_cast<std::size_t> (v) * w + u] =
-              texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z);
-      }
-  }
-
+    sigma_image_.resize (cloud.size ());
   const auto n = static_cast<std::ptrdiff_t> (indices_->size ());
   std::size_t made = 0;
 #pragma omp parallel num_threads(threads) reduction(+ : made)
   {
+    if (need_sigma)
+    {
+#pragma omp for schedule(static)
+      for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u)
+        {
+          const PointInT &p = cloud (u, v);
+          sigma_image_[static_cast<std::size_t> (v) * w + u] =
+              texlet::isValidDepthPoint (p) ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z)
+                                            : std::numeric_limits<double>::quiet_NaN ();
+        }
+    }
     texlet::detail::TexletWorker<PointInT> worker (cloud, params_, *camera, noise_,
                                                    need_sigma ? sigma_image_.data () : nullptr);
 #pragma omp for schedule(dynamic, 64)

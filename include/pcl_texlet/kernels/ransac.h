@@ -57,9 +57,17 @@ ransacPlane (const S *x, const S *y, const S *z, int n, int iterations, S thresh
     Plane<S> h;
     h.n = (S (1) / std::sqrt (c2)) * c;
     h.d = -dot (h.n, pa);
+    // Count in chunks and give up on a hypothesis once it can no longer beat the best one:
+    // the same planes win, with less counting.
     int count = 0;
-    for (int i = 0; i < n; ++i)
-      count += pointPlaneDistance (h, make3 (x[i], y[i], z[i])) <= threshold ? 1 : 0;
+    for (int start = 0; start < n; start += 32)
+    {
+      const int end = n - start < 32 ? n : start + 32;
+      for (int i = start; i < end; ++i)
+        count += pointPlaneDistance (h, make3 (x[i], y[i], z[i])) <= threshold ? 1 : 0;
+      if (count + (n - end) <= best_count)
+        break;
+    }
     if (count > best_count)
     {
       best_count = count;

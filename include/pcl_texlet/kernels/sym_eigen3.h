@@ -132,6 +132,76 @@ symmetricEigen3 (const S cov[6], SymEigen3<S> &out)
   return true;
 }
 
+/** \brief Eigen decomposition of a packed symmetric 3x3 matrix that is nearly diagonal in the
+  * orthonormal basis \a basis (e.g. a slightly perturbed covariance whose unperturbed
+  * eigenvectors are known), by cyclic Jacobi rotations in that basis. It converges
+  * quadratically from a good basis and needs no trigonometric function, which makes it much
+  * cheaper than symmetricEigen3() for the re-fits of Monte Carlo sampling; it agrees with it
+  * to rounding. \return false for a zero or non-finite matrix or if 8 sweeps did not converge
+  * (then use symmetricEigen3()).
+  */
+template <typename S> PCL_TEXLET_HD bool
+symmetricEigen3Near (const S cov[6], const Vec3<S> basis[3], SymEigen3<S> &out)
+{
+  // b = E' A E, packed 00 01 02 11 12 22.
+  const Vec3<S> a0 = symMul (cov, basis[0]), a1 = symMul (cov, basis[1]), a2 = symMul (cov, basis[2]);
+  S b[3][3];
+  b[0][0] = dot (basis[0], a0); b[0][1] = dot (basis[0], a1); b[0][2] = dot (basis[0], a2);
+  b[1][1] = dot (basis[1], a1); b[1][2] = dot (basis[1], a2); b[2][2] = dot (basis[2], a2);
+  b[1][0] = b[0][1]; b[2][0] = b[0][2]; b[2][1] = b[1][2];
+  const S norm2 = b[0][0] * b[0][0] + b[1][1] * b[1][1] + b[2][2] * b[2][2] +
+                  S (2) * (b[0][1] * b[0][1] + b[0][2] * b[0][2] + b[1][2] * b[1][2]);
+  if (!(norm2 > S (0)) || !(norm2 < S (1e300)))
+    return false;
+  S v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const S tol2 = machineEpsilon<S> () * machineEpsilon<S> () * norm2;
+  bool converged = false;
+  for (int sweep = 0; sweep < 8 && !converged; ++sweep)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int p = k == 2 ? 1 : 0, q = k == 0 ? 1 : 2, r = 3 - p - q;
+      const S apq = b[p][q];
+      if (apq * apq <= tol2 * S (1e-4))
+        continue;
+      const S theta = (b[q][q] - b[p][p]) / (S (2) * apq);
+      const S t = (theta >= S (0) ? S (1) : S (-1)) / (std::fabs (theta) + std::sqrt (S (1) + theta * theta));
+      const S c = S (1) / std::sqrt (S (1) + t * t), s = t * c;
+      b[p][p] -= t * apq;
+      b[q][q] += t * apq;
+      b[p][q] = b[q][p] = S (0);
+      const S brp = b[r][p], brq = b[r][q];
+      b[r][p] = b[p][r] = c * brp - s * brq;
+      b[r][q] = b[q][r] = s * brp + c * brq;
+      for (int i = 0; i < 3; ++i)
+      {
+        const S vp = v[i][p], vq = v[i][q];
+        v[i][p] = c * vp - s * vq;
+        v[i][q] = s * vp + c * vq;
+      }
+    }
+    converged = b[0][1] * b[0][1] + b[0][2] * b[0][2] + b[1][2] * b[1][2] <= tol2;
+  }
+  if (!converged)
+    return false;
+  int order[3] = {0, 1, 2}; // ascending eigenvalues
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2 - i; ++j)
+      if (b[order[j]][order[j]] > b[order[j + 1]][order[j + 1]])
+      {
+        const int t = order[j];
+        order[j] = order[j + 1];
+        order[j + 1] = t;
+      }
+  for (int i = 0; i < 3; ++i)
+  {
+    const int j = order[i];
+    out.values[i] = b[j][j];
+    out.vectors[i] = v[0][j] * basis[0] + v[1][j] * basis[1] + v[2][j] * basis[2];
+  }
+  return true;
+}
+
 } // namespace kernels
 } // namespace texlet
 } // namespace pcl

@@ -3,7 +3,8 @@
  *
  * RANSAC marks the inliers, the chosen fit gives P and N, N is turned toward the viewpoint,
  * and the chosen propagation gives Sigma_P and Sigma_N. The function allocates nothing: the
- * caller passes an inlier mask of nb.count bytes and a work buffer of 3 * nb.count values.
+ * caller passes an inlier mask of nb.count bytes and a work buffer of
+ * texletWorkSize (nb.count) values.
  */
 #pragma once
 
@@ -45,6 +46,14 @@ struct TexletResult
   S radius;     ///< sqrt(2 (l1 + l2)): radius of the disc with the inliers' in-plane spread
   int support;  ///< RANSAC inliers
 };
+
+/** \brief Scratch values computeTexlet() needs for a neighbourhood of \a count points. */
+PCL_TEXLET_HD int
+texletWorkSize (int count)
+{
+  const int mc = monteCarloPcaWorkSize (count);
+  return mc > 3 * count ? mc : 3 * count;
+}
 
 /** \brief Computes one texlet. \a texlet is its Philox key (the centre pixel's index). */
 template <typename S> PCL_TEXLET_HD void
@@ -117,7 +126,10 @@ computeTexlet (const Neighbourhood<S> &nb, const TexletSettings<S> &st, std::uin
       analyticPlaneCovariance (nb, mask, fit, t1, t2, out.cov_p, out.cov_n);
     break;
   case UncertaintyMethod::MonteCarlo:
-    monteCarloCovariance (nb, mask, ring_use, st.fit, st.samples, st.seed, texlet, fit.P, N, t1, t2, work,
+    if (st.fit == PlaneFitMethod::PCA)
+      monteCarloPcaCovariance (nb, mask, fit, st.samples, st.seed, texlet, N, t1, t2, work, out.cov_p, out.cov_n);
+    else
+      monteCarloCovariance (nb, mask, ring_use, st.fit, st.samples, st.seed, texlet, fit.P, N, t1, t2, work,
                           out.cov_p, out.cov_n);
     break;
   default:

@@ -13,9 +13,12 @@
 
 #include <pcl_texlet/kernels/config.h>
 #include <pcl_texlet/kernels/neighbourhood.h>
+#include <pcl_texlet/kernels/normal_blocks.h>
 #include <pcl_texlet/kernels/philox_rng.h>
 #include <pcl_texlet/kernels/plane_fit.h>
 #include <pcl_texlet/kernels/tangent_frame.h>
+
+#include <cstring>
 
 namespace pcl
 {
@@ -32,43 +35,98 @@ fillNaN (S *c, int n)
     c[i] = S (NAN);
 }
 
-/** \brief First-order covariances of a PCA or SVD fit of the inliers (mask) of \a nb. */
+/** \brief Adds point \a k's first-order terms to lane sums (see analyticPlaneCovariance). */
+template <typename S> PCL_TEXLET_HD void
+analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k, const PlaneFit<S> &fit, S inv_d1,
+                    S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S cp[6], S cn[3])
+{
+  const Vec3<S> p = nb.point (k);
+  const Vec3<S> r = (S (1) / p.z) * p; // dp = r dz
+  const Vec3<S> q = p - fit.P;
+  const S var = mask[k] ? nb.sigma[k] * nb.sigma[k] : S (0);
+  cp[0] += var * r.x * r.x; cp[1] += var * r.x * r.y; cp[2] += var * r.x * r.z;
+  cp[3] += var * r.y * r.y; cp[4] += var * r.y * r.z; cp[5] += var * r.z * r.z;
+  const S h = dot (q, fit.N), re0 = dot (r, fit.N);
+  const S c1 = -(dot (fit.e1, r) * h + dot (fit.e1, q) * re0) * inv_d1;
+  const S c2 = -(dot (fit.e2, r) * h + dot (fit.e2, q) * re0) * inv_d2;
+  const S j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
+  cn[0] += var * j1 * j1;
+  cn[1] += var * j1 * j2;
+  cn[2] += var * j2 * j2;
+}
+
+/** \brief First-order covariances of a PCA or SVD fit of the inliers (mask) of \a nb.
+  * Points are summed in four interleaved lanes, which the compiler keeps in SIMD registers.
+  */
 template <typename S> PCL_TEXLET_HD void
 analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit,
                          const Vec3<S> &t1, const Vec3<S> &t2, S cov_p[6], S cov_n[3])
 {
-  S n_in = 0;
+  int n_in = 0;
   for (int k = 0; k < nb.count; ++k)
-    n_in += mask[k] ? S (1) : S (0);
-  const Vec3<S> e0 = fit.N;
-  const S d1 = n_in * (fit.lambda[1] - fit.lambda[0]), d2 = n_in * (fit.lambda[2] - fit.lambda[0]);
+    n_in += mask[k] ? 1 : 0;
+  const S d1 = S (n_in) * (fit.lambda[1] - fit.lambda[0]), d2 = S (n_in) * (fit.lambda[2] - fit.lambda[0]);
+  const S inv_d1 = S (1) / d1, inv_d2 = S (1) / d2;
   // Where the tangents point in the eigenbasis: de0 = c1 e1 + c2 e2 -> (de0.t1, de0.t2).
   const S e1t1 = dot (fit.e1, t1), e1t2 = dot (fit.e1, t2), e2t1 = dot (fit.e2, t1), e2t2 = dot (fit.e2, t2);
-  for (int i = 0; i < 6; ++i)
-    cov_p[i] = S (0);
-  for (int i = 0; i < 3; ++i)
-    cov_n[i] = S (0);
-  for (int k = 0; k < nb.count; ++k)
+  S cp[4][6], cn[4][3];
+  for (int i = 0; i < 4; ++i)
   {
-    if (!mask[k])
-      continue;
-    const Vec3<S> p = nb.point (k);
-    const Vec3<S> r = (S (1) / p.z) * p; // dp = r dz
-    const Vec3<S> q = p - fit.P;
-    const S var = nb.sigma[k] * nb.sigma[k];
-    cov_p[0] += var * r.x * r.x; cov_p[1] += var * r.x * r.y; cov_p[2] += var * r.x * r.z;
-    cov_p[3] += var * r.y * r.y; cov_p[4] += var * r.y * r.z; cov_p[5] += var * r.z * r.z;
-    const S h = dot (q, e0), re0 = dot (r, e0);
-    const S c1 = -(dot (fit.e1, r) * h + dot (fit.e1, q) * re0) / d1;
-    const S c2 = -(dot (fit.e2, r) * h + dot (fit.e2, q) * re0) / d2;
-    const S j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
-    cov_n[0] += var * j1 * j1;
-    cov_n[1] += var * j1 * j2;
-    cov_n[2] += var * j2 * j2;
+    for (int j = 0; j < 6; ++j)
+      cp[i][j] = S (0);
+    for (int j = 0; j < 3; ++j)
+      cn[i][j] = S (0);
   }
-  const S inv_n2 = S (1) / (n_in * n_in);
-  for (int i = 0; i < 6; ++i)
-    cov_p[i] *= inv_n2;
+  const int full = nb.count & ~3;
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  // The same terms as analyticPlaneTerms, four points at a time in vector types.
+  typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+  Lane lp[6] = {}, ln[3] = {};
+  for (int k = 0; k < full; k += 4)
+  {
+    Lane px, py, pz, sd;
+    std::memcpy (&px, nb.x + k, sizeof px);
+    std::memcpy (&py, nb.y + k, sizeof py);
+    std::memcpy (&pz, nb.z + k, sizeof pz);
+    std::memcpy (&sd, nb.sigma + k, sizeof sd);
+    Lane use;
+    for (int i = 0; i < 4; ++i)
+      use[i] = mask[k + i] ? S (1) : S (0);
+    const Lane iz = S (1) / pz;
+    const Lane rx = iz * px, ry = iz * py, rz = iz * pz;
+    const Lane qx = px - fit.P.x, qy = py - fit.P.y, qz = pz - fit.P.z;
+    const Lane var = use * (sd * sd);
+    lp[0] += var * rx * rx; lp[1] += var * rx * ry; lp[2] += var * rx * rz;
+    lp[3] += var * ry * ry; lp[4] += var * ry * rz; lp[5] += var * rz * rz;
+    const Lane h = qx * fit.N.x + qy * fit.N.y + qz * fit.N.z, re0 = rx * fit.N.x + ry * fit.N.y + rz * fit.N.z;
+    const Lane c1 = -((rx * fit.e1.x + ry * fit.e1.y + rz * fit.e1.z) * h +
+                      (qx * fit.e1.x + qy * fit.e1.y + qz * fit.e1.z) * re0) * inv_d1;
+    const Lane c2 = -((rx * fit.e2.x + ry * fit.e2.y + rz * fit.e2.z) * h +
+                      (qx * fit.e2.x + qy * fit.e2.y + qz * fit.e2.z) * re0) * inv_d2;
+    const Lane j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
+    ln[0] += var * j1 * j1;
+    ln[1] += var * j1 * j2;
+    ln[2] += var * j2 * j2;
+  }
+  for (int i = 0; i < 4; ++i)
+  {
+    for (int j = 0; j < 6; ++j)
+      cp[i][j] = lp[j][i];
+    for (int j = 0; j < 3; ++j)
+      cn[i][j] = ln[j][i];
+  }
+#else
+  for (int k = 0; k < full; k += 4)
+    for (int i = 0; i < 4; ++i)
+      analyticPlaneTerms (nb, mask, k + i, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, cp[i], cn[i]);
+#endif
+  for (int k = full; k < nb.count; ++k)
+    analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, cp[k - full], cn[k - full]);
+  const S inv_n2 = S (1) / (S (n_in) * S (n_in));
+  for (int j = 0; j < 6; ++j)
+    cov_p[j] = ((cp[0][j] + cp[1][j]) + (cp[2][j] + cp[3][j])) * inv_n2;
+  for (int j = 0; j < 3; ++j)
+    cov_n[j] = (cn[0][j] + cn[1][j]) + (cn[2][j] + cn[3][j]);
 }
 
 /** \brief First-order covariances of normal averaging (P is the centre point), by central
@@ -228,6 +286,157 @@ monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, con
     if (dot (N, N0) < S (0))
       N = -N;
     acc.add (P - P0, dot (N, t1), dot (N, t2));
+  }
+  acc.finish (cov_p, cov_n);
+}
+
+/** \brief Sums of offsets d_i = q_i + g_i a_i and of their products over points, in four
+  * lanes (one per point of a Philox block) so that they map onto SIMD registers: with GCC or
+  * Clang on the host as vector types, elsewhere as plain arrays; the arithmetic is the same.
+  */
+template <typename S>
+struct PointMomentLanes
+{
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+  Lane sx = {}, sy = {}, sz = {}, sxx = {}, sxy = {}, sxz = {}, syy = {}, syz = {}, szz = {};
+
+  /** \brief Adds the four points at q[0..3] + g[0..3] a[0..3]. */
+  void
+  add (const S *qx, const S *qy, const S *qz, const S *ax, const S *ay, const S *az, const S *g)
+  {
+    Lane gk, x, y, z, u, v, w; // memcpy: unaligned loads, and no vector passed by value (ABI)
+    std::memcpy (&gk, g, sizeof gk);
+    std::memcpy (&x, qx, sizeof x); std::memcpy (&y, qy, sizeof y); std::memcpy (&z, qz, sizeof z);
+    std::memcpy (&u, ax, sizeof u); std::memcpy (&v, ay, sizeof v); std::memcpy (&w, az, sizeof w);
+    const Lane dx = x + gk * u, dy = y + gk * v, dz = z + gk * w;
+    sx += dx; sy += dy; sz += dz;
+    sxx += dx * dx; sxy += dx * dy; sxz += dx * dz;
+    syy += dy * dy; syz += dy * dz; szz += dz * dz;
+  }
+
+  static S
+  total (const Lane &v)
+  {
+    S l[4];
+    std::memcpy (l, &v, sizeof l);
+    return (l[0] + l[1]) + (l[2] + l[3]);
+  }
+#else
+  S sx[4] = {}, sy[4] = {}, sz[4] = {}, sxx[4] = {}, sxy[4] = {}, sxz[4] = {}, syy[4] = {}, syz[4] = {}, szz[4] = {};
+
+  PCL_TEXLET_HD void
+  add (const S *qx, const S *qy, const S *qz, const S *ax, const S *ay, const S *az, const S *g)
+  {
+    for (int i = 0; i < 4; ++i)
+    {
+      const S dx = qx[i] + g[i] * ax[i], dy = qy[i] + g[i] * ay[i], dz = qz[i] + g[i] * az[i];
+      sx[i] += dx; sy[i] += dy; sz[i] += dz;
+      sxx[i] += dx * dx; sxy[i] += dx * dy; sxz[i] += dx * dz;
+      syy[i] += dy * dy; syz[i] += dy * dz; szz[i] += dz * dz;
+    }
+  }
+
+  static PCL_TEXLET_HD S
+  total (const S v[4]) { return (v[0] + v[1]) + (v[2] + v[3]); }
+#endif
+
+  /** \brief Mean offset \a m and (1/n) covariance \a c (packed) of the n points added. */
+  PCL_TEXLET_HD void
+  moments (S inv_n, S m[3], S c[6]) const
+  {
+    m[0] = total (sx) * inv_n;
+    m[1] = total (sy) * inv_n;
+    m[2] = total (sz) * inv_n;
+    c[0] = total (sxx) * inv_n - m[0] * m[0];
+    c[1] = total (sxy) * inv_n - m[0] * m[1];
+    c[2] = total (sxz) * inv_n - m[0] * m[2];
+    c[3] = total (syy) * inv_n - m[1] * m[1];
+    c[4] = total (syz) * inv_n - m[1] * m[2];
+    c[5] = total (szz) * inv_n - m[2] * m[2];
+  }
+};
+
+/** \brief Scratch values monteCarloPcaCovariance() needs for \a count points. */
+PCL_TEXLET_HD int
+monteCarloPcaWorkSize (int count)
+{
+  return 6 * ((count + 3) / 4) * 4;
+}
+
+/** \brief Monte Carlo covariances of a PCA fit: the same samples as monteCarloCovariance()
+  * with PlaneFitMethod::PCA (draws from Philox counters (seed, texlet, sample, point block)),
+  * to floating-point rounding, computed faster.
+  *
+  * A sample moves inlier k along its ray, p_k (1 + g_k sigma_k / z_k), so its offset from P0 is
+  * q_k + g_k a_k with q_k = p_k - P0 and a_k = (sigma_k / z_k) p_k, precomputed once per texlet
+  * (zero for outliers, which then add nothing). The normals come block-parallel from
+  * normalBlocks(); the moments are summed in four lanes (one per point of a Philox block) that
+  * the compiler keeps in SIMD registers; the re-fit's eigenvectors are found by Jacobi rotations
+  * from those of the measured fit, \a fit, which is close to every sample's.
+  * \param work scratch of monteCarloPcaWorkSize (nb.count) values
+  */
+template <typename S> PCL_TEXLET_HD void
+monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit, int samples,
+                         std::uint32_t seed, std::uint32_t texlet, const Vec3<S> &N0, const Vec3<S> &t1,
+                         const Vec3<S> &t2, S *work, S cov_p[6], S cov_n[3])
+{
+  const int blocks = (nb.count + 3) / 4, padded = 4 * blocks;
+  S *qx = work, *qy = work + padded, *qz = work + 2 * padded;
+  S *ax = work + 3 * padded, *ay = work + 4 * padded, *az = work + 5 * padded;
+  const Vec3<S> P0 = fit.P;
+  int n = 0;
+  for (int k = 0; k < padded; ++k)
+  {
+    if (k < nb.count && mask[k])
+    {
+      const Vec3<S> p = nb.point (k), q = p - P0;
+      const S f = nb.sigma[k] / nb.z[k];
+      qx[k] = q.x; qy[k] = q.y; qz[k] = q.z;
+      ax[k] = f * p.x; ay[k] = f * p.y; az[k] = f * p.z;
+      ++n;
+    }
+    else
+      qx[k] = qy[k] = qz[k] = ax[k] = ay[k] = az[k] = S (0);
+  }
+  const Vec3<S> basis[3] = {fit.N, fit.e1, fit.e2};
+  const S inv_n = S (1) / S (n);
+
+  constexpr int chunk = 32; // Philox blocks per batch of normals (128 points)
+  std::uint32_t words[4 * chunk];
+  S g[4 * chunk];
+  SampleCovariance<S> acc;
+  acc.reset ();
+  for (int s = 0; s < samples; ++s)
+  {
+    // Moments of the sample's offsets from P0, one lane per point of a block.
+    S m[3], c[6];
+    {
+      PointMomentLanes<S> lanes;
+      for (int first = 0; first < blocks; first += chunk)
+      {
+        const int nblk = blocks - first < chunk ? blocks - first : chunk;
+        // Draws for a whole number of 8-block SIMD steps (the spare ones go unused): no
+        // scalar remainder loop.
+        const int ndraw = (nblk + 7) / 8 * 8;
+        normalBlocks (seed, texlet, static_cast<std::uint32_t> (s), first, ndraw, words, g);
+        const int k0 = 4 * first;
+        for (int b = 0; b < nblk; ++b)
+          lanes.add (qx + k0 + 4 * b, qy + k0 + 4 * b, qz + k0 + 4 * b, ax + k0 + 4 * b, ay + k0 + 4 * b,
+                     az + k0 + 4 * b, g + 4 * b);
+      }
+      lanes.moments (inv_n, m, c);
+    }
+    // The re-fit as fitPlanePca() does it: no plane for (nearly) collinear points.
+    SymEigen3<S> eig;
+    if (!symmetricEigen3Near (c, basis, eig) && !symmetricEigen3 (c, eig))
+      continue;
+    if (!(eig.values[1] > collinearityLimit<S> () * eig.values[2]))
+      continue;
+    Vec3<S> N = eig.vectors[0];
+    if (dot (N, N0) < S (0))
+      N = -N;
+    acc.add (make3 (m[0], m[1], m[2]), dot (N, t1), dot (N, t2));
   }
   acc.finish (cov_p, cov_n);
 }
