@@ -98,6 +98,11 @@ fixed (const json &v, int digits = 1)
 
 } // namespace
 
+/* Half the smallest gap between Table 2's distances (112 and 128 mm) less a bin, so that one
+ * relation's window never reaches the other's peak. */
+constexpr double kPeakWindowM = 0.007;
+constexpr double kPeakWindowDeg = 20.0;
+
 json
 peaksJson (const pcl::texlet::RelationStatistics &stats)
 {
@@ -106,7 +111,7 @@ peaksJson (const pcl::texlet::RelationStatistics &stats)
   {
     if (r.distance_max_m != r.distance_min_m)
       continue; // a range (orthogonal planes) has no single peak
-    const auto p = stats.peakNear (r.distance_min_m, r.angle_deg, 0.02, 20.0);
+    const auto p = stats.peakNear (r.distance_min_m, r.angle_deg, kPeakWindowM, kPeakWindowDeg);
     peaks.push_back ({{"relation", r.name},
                       {"expected_distance_mm", round3 (1000.0 * r.distance_min_m)},
                       {"expected_angle_deg", r.angle_deg},
@@ -163,6 +168,7 @@ studyJson (const json &setup, const pcl::texlet::KnownObject &object, const std:
                         {"texlets", q.texlets},
                         {"rms_plane_distance_mm", number (q.rms_distance_mm)},
                         {"rms_normal_angle_deg", number (q.rms_angle_deg)},
+                        {"median_normal_angle_deg", number (q.median_angle_deg)},
                         {"inlier_percent", number (s.labelInlierPercent (static_cast<int> (f)))}});
     }
     cell["faces"] = faces;
@@ -248,14 +254,14 @@ studyHtml (const json &j, const std::string &folder, const std::string &curves_p
 
   h << "<h2>Per face (texlets labelled by position on the known object)</h2>\n";
   h << "<table><tr><th>projectors</th><th>radius</th><th>face</th><th>texlets</th><th>RMS plane distance (mm)</th>"
-       "<th>RMS normal angle (&deg;)</th><th>inliers of its relations (%)</th></tr>\n";
+       "<th>RMS normal angle (&deg;)</th><th>median normal angle (&deg;)</th><th>inliers of its relations (%)</th></tr>\n";
   for (int p : projectors)
     for (int r : radii)
       if (cell.count ({p, r}))
         for (const auto &f : (*cell[{p, r}])["faces"])
           h << "<tr><td>" << p << "</td><td>" << r << "</td><td style=\"text-align:left\">"
             << escape (f["face"].get<std::string> ()) << "</td><td>" << f["texlets"].get<std::size_t> () << "</td><td>"
-            << fixed (f["rms_plane_distance_mm"], 2) << "</td><td>" << fixed (f["rms_normal_angle_deg"], 2) << "</td><td>"
+            << fixed (f["rms_plane_distance_mm"], 2) << "</td><td>" << fixed (f["rms_normal_angle_deg"], 2) << "</td><td>" << fixed (f["median_normal_angle_deg"], 2) << "</td><td>"
             << fixed (f["inlier_percent"]) << "</td></tr>\n";
   h << "</table>\n";
 

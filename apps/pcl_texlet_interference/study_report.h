@@ -21,7 +21,7 @@ struct CellResult
   double seconds = 0.0;
 };
 
-/** \brief The peak of each point relation (not the ranges) within 20 mm and 20 degrees. */
+/** \brief The peak of each point relation (not the ranges) within 7 mm and 20 degrees. */
 nlohmann::json
 peaksJson (const pcl::texlet::RelationStatistics &stats);
 

@@ -119,11 +119,9 @@ writeRelationHistogramPng (const RelationStatistics &stats, const std::string &p
       for (int d = 0; d < axes.distance_bins; ++d)
       {
         const std::uint64_t c = stats.count (d, a);
-        out << 1000.0 * stats.distanceBinCentre (d) << ' ' << stats.angleBinCentre (a) << ' ';
-        if (c == 0)
-          out << "NaN\n";
-        else
-          out << std::log10 (static_cast<double> (c)) << '\n';
+        // Raw counts: every bin is written so that the grid stays regular for `with image`
+        // (a missing value would shift the rest of its row); empty bins become NaN in the plot.
+        out << 1000.0 * stats.distanceBinCentre (d) << ' ' << stats.angleBinCentre (a) << ' ' << c << '\n';
       }
       out << '\n';
     }
@@ -132,14 +130,15 @@ writeRelationHistogramPng (const RelationStatistics &stats, const std::string &p
   }
   const std::string tmp = detail::temporaryPathFor (png);
   std::ostringstream gp;
-  gp << "set terminal pngcairo size 900,640 enhanced font 'Sans,11'\n"
+  gp << "set terminal pngcairo size 900,660 enhanced font 'Sans,11'\n"
      << "set output " << gpString (tmp) << "\n"
      << "set title " << gpString (title) << "\n"
      << "set xlabel 'normal distance n_{ij} (mm)'\nset ylabel 'angle between normals {/Symbol q} (degrees)'\n"
      << "set cblabel 'log_{10} (relations per bin)'\n"
+     << "set bmargin 5\n"
      << "set xrange [0:" << 1000.0 * axes.distance_max << "]\nset yrange [0:180]\nset ytics 30\n"
      << "set palette defined (0 '#000080', 1 '#0060ff', 2 '#00d0d0', 3 '#80ff40', 4 '#ffd000', 5 '#ff4000', 6 '#800000')\n"
-     << "set cbrange [0:*]\nset datafile missing 'NaN'\nset key off\n";
+     << "set cbrange [0:*]\nset key off\n";
   int obj = 1;
   for (const auto &r : stats.relations)
   {
@@ -155,8 +154,8 @@ writeRelationHistogramPng (const RelationStatistics &stats, const std::string &p
     s << std::fixed << std::setprecision (1) << stats.inlierPercent () << " % of " << stats.relation_count
       << " relations (" << stats.texlets << " texlets)";
     return s.str ();
-  }()) << " at graph 0.02, graph 0.96 front tc rgb '#000000'\n";
-  gp << "plot " << gpString (data) << " using 1:2:3 with image\n";
+  }()) << " at screen 0.5, screen 0.035 center front tc rgb '#000000'\n";
+  gp << "plot " << gpString (data) << " using 1:2:($3 > 0 ? log10($3) : NaN) with image\n";
   runGnuplot (scratch, gp.str (), tmp, png);
 }
 

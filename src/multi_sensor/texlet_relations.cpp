@@ -5,6 +5,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -243,6 +244,7 @@ faceQuality (const pcl::PointCloud<pcl::Texlet> &texlets, const std::vector<int>
                                      std::to_string (texlets.size ()) + " texlets");
   std::vector<FaceQuality> out (object.faces.size ());
   std::vector<double> sum_d2 (out.size (), 0.0), sum_a2 (out.size (), 0.0);
+  std::vector<std::vector<double>> angles (out.size ());
   for (std::size_t f = 0; f < out.size (); ++f)
     out[f].name = object.faces[f].name;
   for (std::size_t i = 0; i < texlets.size (); ++i)
@@ -257,6 +259,7 @@ faceQuality (const pcl::PointCloud<pcl::Texlet> &texlets, const std::vector<int>
     const double a = std::acos (std::clamp (n.dot (face.normal), -1.0, 1.0)) * 180.0 / M_PI;
     sum_d2[f] += d * d;
     sum_a2[f] += a * a;
+    angles[f].push_back (a);
     ++out[f].texlets;
   }
   for (std::size_t f = 0; f < out.size (); ++f)
@@ -264,9 +267,13 @@ faceQuality (const pcl::PointCloud<pcl::Texlet> &texlets, const std::vector<int>
     {
       out[f].rms_distance_mm = 1000.0 * std::sqrt (sum_d2[f] / out[f].texlets);
       out[f].rms_angle_deg = std::sqrt (sum_a2[f] / out[f].texlets);
+      auto &v = angles[f];
+      std::nth_element (v.begin (), v.begin () + v.size () / 2, v.end ());
+      out[f].median_angle_deg = v[v.size () / 2];
     }
     else
-      out[f].rms_distance_mm = out[f].rms_angle_deg = std::numeric_limits<double>::quiet_NaN ();
+      out[f].rms_distance_mm = out[f].rms_angle_deg = out[f].median_angle_deg =
+          std::numeric_limits<double>::quiet_NaN ();
   return out;
 }
 

@@ -154,6 +154,7 @@ struct FaceQuality
   std::size_t texlets = 0;
   double rms_distance_mm = 0.0; ///< RMS distance of the centres from the face's plane
   double rms_angle_deg = 0.0;   ///< RMS angle between the normals and the face's normal
+  double median_angle_deg = 0.0; ///< median of those angles: robust to texlets straddling an edge
 };
 
 /** \brief FaceQuality of every face of \a object from \a texlets labelled by \a labels. */
