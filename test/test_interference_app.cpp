@@ -131,7 +131,7 @@ TEST_F (InterferenceApp, HelpListsTheOptions)
 TEST_F (InterferenceApp, SimulatedStudyWritesHistogramsTableAndReport)
 {
   const fs::path out = dir / "study";
-  const Result r = study ("--simulate --width 320 --height 240 --radii 3 8 --projectors 1 3 --histogram-radii 8 -j 2 " +
+  const Result r = study ("--simulate --width 320 --height 240 --radii 3,8 --projectors 1,3 --histogram-radii 8 -j 2 " +
                           out.string ());
   ASSERT_EQ (r.code, 0) << r.err;
   EXPECT_NE (r.out.find ("projectors 3, radius  8"), std::string::npos) << r.out; // progress
@@ -173,7 +173,7 @@ TEST_F (InterferenceApp, SimulatedStudyWritesHistogramsTableAndReport)
 TEST_F (InterferenceApp, RecordingsFromTheSimulatorWithMetaPosesOrExtrinsics)
 {
   const fs::path rec = recordBox ("rec");
-  const std::string folders = (rec / "sensor_0").string () + " " + (rec / "sensor_1").string () + " " +
+  const std::string folders = (rec / "sensor_0").string () + "," + (rec / "sensor_1").string () + "," +
                               (rec / "sensor_2").string ();
   Result r = study ("--recordings " + folders + " --radii 6 --no-plots -q " + (dir / "meta").string ());
   ASSERT_EQ (r.code, 0) << r.err;
@@ -218,7 +218,7 @@ TEST_F (InterferenceApp, BadInputExitsTwoWithOneLine)
 {
   const std::string out = (dir / "out").string ();
   expectRejected ("", "OUTPUT is required");
-  expectRejected ("--simulate --recordings a b " + out, "either --simulate or --recordings");
+  expectRejected ("--simulate --recordings a,b " + out, "either --simulate or --recordings");
   expectRejected (out, "either --simulate or --recordings");
   fs::create_directories (dir / "exists");
   expectRejected ("--simulate " + (dir / "exists").string (), "already exists");
@@ -244,4 +244,5 @@ TEST_F (InterferenceApp, BadInputExitsTwoWithOneLine)
   expectRejected ("--simulate --object " + (dir / "object.yaml").string () + " " + out, "object.yaml");
   expectRejected ("--simulate --extrinsics " + (dir / "ok.yaml").string () + " " + out, "--extrinsics");
   expectRejected ("--recordings a --recordings b --projectors 1 " + out, "one count per set");
+  expectRejected ("--recordings , " + out, "at least one folder");
 }

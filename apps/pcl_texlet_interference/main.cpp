@@ -31,6 +31,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <sstream>
 
 #include <unistd.h>
 
@@ -50,7 +51,8 @@ struct Options
 {
   std::string output;
   bool simulate = false;
-  std::vector<std::vector<std::string>> recordings;
+  std::vector<std::string> recording_sets;         ///< comma-separated folders, one string per set
+  std::vector<std::vector<std::string>> recordings; ///< recording_sets split
   std::string extrinsics, object;
   std::vector<int> projectors;
   std::vector<int> radii{2, 4, 6, 8, 10};
@@ -176,17 +178,27 @@ run (int argc, char **argv)
   app.add_option ("OUTPUT", o.output, "folder to create (must not exist)");
   app.add_flag ("--simulate", o.simulate,
                 "the simulated setup: three sensors in a triangle around the paper's box on a plate");
-  app.add_option ("--recordings", o.recordings,
-                  "recordings of one scene, one folder per sensor (repeatable: one set per projector count)")
+  // Lists are comma-separated (one token per option), so that OUTPUT after them is never taken
+  // for one more item.
+  app.add_option ("--recordings", o.recording_sets,
+                  "recordings of one scene, one folder per sensor, comma-separated: DIR0,DIR1,DIR2 "
+                  "(repeatable: one set per projector count)")
       ->allow_extra_args (false);
   app.add_option ("--extrinsics", o.extrinsics,
                   "YAML with a 4x4 pose per sensor, matched by folder name (default: each recording's meta.yaml)");
   app.add_option ("--object", o.object, "known object YAML (default: the paper's Table 2 box on a 350 mm plate)");
   app.add_option ("--projectors", o.projectors,
-                  "simulate: active projector counts to run (default 1 2 3); recordings: the count of each set "
-                  "(default: meta.yaml's projectors, else 1)");
-  app.add_option ("--radii", o.radii, "neighbourhood radii, pixels")->capture_default_str ();
-  app.add_option ("--histogram-radii", o.histogram_radii, "radii whose histograms are drawn (default: all)");
+                  "comma-separated; simulate: active projector counts to run (default 1,2,3); recordings: the count "
+                  "of each set (default: meta.yaml's projectors, else 1)")
+      ->delimiter (',')
+      ->allow_extra_args (false);
+  app.add_option ("--radii", o.radii, "neighbourhood radii, pixels, comma-separated")
+      ->delimiter (',')
+      ->allow_extra_args (false)
+      ->capture_default_str ();
+  app.add_option ("--histogram-radii", o.histogram_radii, "radii whose histograms are drawn, comma-separated (default: all)")
+      ->delimiter (',')
+      ->allow_extra_args (false);
   app.add_option ("--spacing", o.spacing, "hexagonal grid spacing, pixels")->capture_default_str ();
   app.add_option ("--frames", o.frames, "frames per sensor (texlets of all are merged)")->capture_default_str ();
   app.add_option ("--seed", o.seed, "simulation seed")->capture_default_str ();
@@ -220,6 +232,15 @@ run (int argc, char **argv)
     throw InputError (e.what ());
   }
   pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS);
+  for (const auto &set : o.recording_sets)
+  {
+    std::vector<std::string> folders;
+    std::stringstream list (set);
+    for (std::string folder; std::getline (list, folder, ',');)
+      if (!folder.empty ())
+        folders.push_back (folder);
+    o.recordings.push_back (folders);
+  }
   checkOptions (o, app);
   std::error_code ec;
   const fs::path out = fs::absolute (o.output, ec);
