@@ -125,6 +125,9 @@ accumulateRelations (const pcl::PointCloud<pcl::Texlet> &texlets, const KnownObj
     throw pcl::BadArgumentException ("accumulateRelations: more than 100000 bins along an axis");
   if (object.relations.empty ())
     throw pcl::BadArgumentException ("accumulateRelations: the object '" + object.name + "' has no expected relations");
+  if (object.relations.size () > static_cast<std::size_t> (kernels::kMaxRelationBoxes))
+    throw pcl::BadArgumentException ("accumulateRelations: more than " + std::to_string (kernels::kMaxRelationBoxes) +
+                                     " expected relations");
   if (!labels.empty () && labels.size () != texlets.size ())
     throw pcl::BadArgumentException ("accumulateRelations: " + std::to_string (labels.size ()) + " labels for " +
                                      std::to_string (texlets.size ()) + " texlets");

@@ -67,8 +67,7 @@ struct RelationBox
 template <typename S> PCL_TEXLET_HD bool
 insideRelationBox (const RelationBox &box, S distance, S angle_deg)
 {
-  const S da = angle_deg - S (box.angle_deg);
-  return da <= S (box.angle_tol_deg) && -da <= S (box.angle_tol_deg) &&
+  return angle_deg >= S (box.angle_deg) - S (box.angle_tol_deg) && angle_deg <= S (box.angle_deg) + S (box.angle_tol_deg) &&
          distance >= S (box.distance_min) - S (box.distance_tol) && distance <= S (box.distance_max) + S (box.distance_tol);
 }
 
@@ -146,19 +145,94 @@ addDirectedRelation (const RelationConfig &config, RelationCounts<Count> &counts
   }
 }
 
-/** \brief Row \a i: texlet i against every texlet j > i, both directions of each pair. */
+/** \brief Index of the lowest set bit of \a m (m != 0). */
+PCL_TEXLET_HD int
+lowestSetBit (unsigned m)
+{
+#if defined(__CUDA_ARCH__)
+  return __ffs (static_cast<int> (m)) - 1;
+#else
+  return __builtin_ctz (m);
+#endif
+}
+
+/** \brief Most expected relations a RelationConfig may hold (a bit mask per pair holds them). */
+constexpr int kMaxRelationBoxes = 32;
+
+/** \brief Row \a i: texlet i against every texlet j > i, both directions of each pair; the same
+  * counts as addDirectedRelation on (n_ij, theta, label_i, label_j) and (n_ji, theta, label_j,
+  * label_i) for every j > i.
+  *
+  * Why not simply call addDirectedRelation: the two directions share the angle, so the boxes'
+  * angle tests are done once per pair (as a bit mask), and the scalar counters live in locals,
+  * since stores through the histogram pointer could otherwise alias them and force a reload of
+  * every counter per pair (this halves the instructions per pair). box_count must not exceed
+  * kMaxRelationBoxes.
+  */
 template <typename S, typename Count> PCL_TEXLET_HD void
 accumulateRelationRow (int i, const RelationInput<S> &in, const RelationConfig &config, RelationCounts<Count> &counts)
 {
   const Vec3<S> p_i = in.centre[i], n_i = in.normal[i];
   const int label_i = in.label ? in.label[i] : -1;
+  const int labels = config.label_count;
+  const bool labelled_i = label_i >= 0 && label_i < labels;
+  const int boxes = config.box_count < kMaxRelationBoxes ? config.box_count : kMaxRelationBoxes;
+  Count *const histogram = counts.histogram;
+  Count *const box_hits = counts.box_hits;
+  // The boxes' limits in locals, computed as insideRelationBox computes them.
+  S angle_lo[kMaxRelationBoxes], angle_hi[kMaxRelationBoxes], distance_lo[kMaxRelationBoxes],
+      distance_hi[kMaxRelationBoxes];
+  for (int b = 0; b < boxes; ++b)
+  {
+    const RelationBox &box = config.boxes[b];
+    angle_lo[b] = S (box.angle_deg) - S (box.angle_tol_deg);
+    angle_hi[b] = S (box.angle_deg) + S (box.angle_tol_deg);
+    distance_lo[b] = S (box.distance_min) - S (box.distance_tol);
+    distance_hi[b] = S (box.distance_max) + S (box.distance_tol);
+  }
+  Count inliers = 0, outside = 0;
   for (int j = i + 1; j < in.count; ++j)
   {
     const PairRelation<S> r = texletRelation (p_i, n_i, in.centre[j], in.normal[j]);
+    // Boxes whose angle range holds theta.
+    unsigned angle_ok = 0u;
+    for (int b = 0; b < boxes; ++b)
+      angle_ok |= static_cast<unsigned> (r.angle_deg >= angle_lo[b] && r.angle_deg <= angle_hi[b]) << b;
     const int label_j = in.label ? in.label[j] : -1;
-    addDirectedRelation (config, counts, r.distance_ij, r.angle_deg, label_i, label_j);
-    addDirectedRelation (config, counts, r.distance_ji, r.angle_deg, label_j, label_i);
+    const bool labelled = labelled_i && label_j >= 0 && label_j < labels;
+    for (int direction = 0; direction < 2; ++direction)
+    {
+      const S distance = direction == 0 ? r.distance_ij : r.distance_ji;
+      const int bin = relationBin (config.axes, distance, r.angle_deg);
+      if (bin >= 0)
+        ++histogram[bin];
+      else
+        ++outside;
+      int box = -1;
+      for (unsigned m = angle_ok; m != 0u && box < 0; m &= m - 1u)
+      {
+        const int b = lowestSetBit (m); // the first match, as matchRelationBox
+        if (distance >= distance_lo[b] && distance <= distance_hi[b])
+          box = b;
+      }
+      if (box >= 0)
+      {
+        ++inliers;
+        ++box_hits[box];
+      }
+      if (labelled)
+      {
+        const int cell = direction == 0 ? label_i * labels + label_j : label_j * labels + label_i;
+        ++counts.label_pairs[cell];
+        if (box >= 0)
+          ++counts.label_inliers[cell];
+      }
+    }
   }
+  const Count pairs = static_cast<Count> (in.count - 1 - i);
+  counts.relations += 2 * pairs;
+  counts.inliers += inliers;
+  counts.outside_histogram += outside;
 }
 
 } // namespace kernels
