@@ -247,7 +247,7 @@ studyHtml (const json &j, const std::string &folder, const std::string &curves_p
       h << "<div>";
       if (cell.count ({p, r}) && cell[{p, r}]->contains ("histogram_png"))
         h << imageTag (folder, (*cell[{p, r}])["histogram_png"].get<std::string> (),
-                       std::to_string (p) + " projectors, radius " + std::to_string (r));
+                       "active projectors: " + std::to_string (p) + ", radius " + std::to_string (r) + " px");
       h << "</div>\n";
     }
   h << "</div>\n";
