@@ -163,6 +163,18 @@ TEST_F (Viewer, RecordingFolderAndPcdFolder)
   EXPECT_GT (litFraction (screenshot (fs::path (kFrame).parent_path ().string () + " --layers cloud -u none")), 0.5);
 }
 
+TEST_F (Viewer, GrabberTiffFolder)
+{
+  // The bundled sequence's TIFF depth frames + intrinsics XML, back-projected by the viewer.
+  const std::string folder = fs::path (kFrame).parent_path ().parent_path ().string (); // holds tiff/ and pcd/
+  EXPECT_GT (litFraction (screenshot (folder + " --layers cloud,texlets -u none")), 0.5);
+  std::ifstream out (dir / "out");
+  std::stringstream s;
+  s << out.rdbuf ();
+  // Frames of the TIFF reader are named by their time stamp, without the PCD folder's ".pcd".
+  EXPECT_NE (s.str ().find ("frame_20121214T142255.814212  |"), std::string::npos) << s.str ();
+}
+
 TEST_F (Viewer, WithoutInputOrSensorItPlaysTheBundledFrames)
 {
   // No OpenNI2 device is connected on a test machine: the viewer falls back to data/kinect.

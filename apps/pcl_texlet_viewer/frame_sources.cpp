@@ -3,6 +3,7 @@
 #include <pcl_texlet/depth_image.h>
 #include <pcl_texlet/pinhole_model.h>
 #include <pcl_texlet/recording.h>
+#include <pcl_texlet/recording_readers.h>
 
 #include <pcl/exceptions.h>
 #include <pcl/io/openni2_grabber.h>
@@ -90,12 +91,13 @@ private:
   bool loaded_ = false;
 };
 
-/** A recording folder, back-projected through its camera.yaml, looped. */
+/** A depth recording (a recording folder or PCL grabber TIFFs), back-projected through its
+  * intrinsics, looped. */
 class RecordingSource : public FrameSource
 {
 public:
   explicit RecordingSource (const std::string &folder)
-    : folder_ (folder), reader_ (std::make_unique<pcl::texlet::RecordingFolderReader> (folder))
+    : folder_ (folder), reader_ (pcl::texlet::openRecording (folder))
   {
     camera_ = std::make_shared<pcl::texlet::PinholeModel> (pcl::texlet::PinholeModel::fromCameraInfo (reader_->cameraInfo ()));
   }
@@ -106,7 +108,7 @@ public:
     pcl::texlet::DepthFrame depth;
     if (!reader_->next (depth))
     {
-      reader_ = std::make_unique<pcl::texlet::RecordingFolderReader> (folder_);
+      reader_ = pcl::texlet::openRecording (folder_);
       if (!reader_->next (depth))
         return false;
     }
@@ -130,7 +132,7 @@ public:
 
 private:
   std::string folder_;
-  std::unique_ptr<pcl::texlet::RecordingFolderReader> reader_;
+  pcl::texlet::RecordingReader::Ptr reader_;
   pcl::texlet::CameraModel::ConstPtr camera_;
 };
 
@@ -196,7 +198,8 @@ openSource (const std::string &input)
   }
   if (fs::is_directory (input))
   {
-    if (pcl::texlet::RecordingFolderReader::isRecordingFolder (input))
+    const auto kind = pcl::texlet::recordingKind (input); // throws, naming the folder, for none
+    if (kind == pcl::texlet::RecordingKind::recording_folder || kind == pcl::texlet::RecordingKind::grabber_tiff_folder)
       return std::make_unique<RecordingSource> (input);
     std::vector<std::string> files;
     for (const auto &e : fs::directory_iterator (input))

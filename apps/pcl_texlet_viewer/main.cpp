@@ -361,7 +361,7 @@ run (int argc, char **argv)
   int width = 1024, height = 768;
   CLI::App app ("View texlets live or from files, in the manner of pcl_viewer.\n"
                 "INPUT: an organised PCD file, a texlet PCD file (from pcl_texlet_extract), a folder of PCD files, a\n"
-                "recording folder, a .oni file, or 'sensor'. Without INPUT: the first OpenNI2 sensor, else the bundled "
+                "recording folder, a folder of PCL grabber TIFFs, a .oni file, or 'sensor'. Without INPUT: the first OpenNI2 sensor, else the bundled "
                 "real frames.",
                 kName);
   app.add_option ("INPUT", input, "what to show");
