@@ -1,0 +1,76 @@
+/*
+ * bench_relations: all-pairs texlet relations (normal distance x angle histogram plus inlier
+ * boxes of the paper's Table 2) for n texlets, on 1 and 2 threads. Items are directed
+ * relations, n (n - 1) per run. Texlets are random patches around the paper's box.
+ *
+ *   build/bench/bench_relations --benchmark_filter='/30000/'
+ */
+#include <pcl_texlet/multi_sensor/texlet_relations.h>
+
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+namespace
+{
+
+pcl::PointCloud<pcl::Texlet>
+randomTexlets (int n)
+{
+  std::mt19937 rng (1);
+  std::uniform_real_distribution<float> u (-0.2f, 0.2f);
+  std::normal_distribution<float> g (0.0f, 1.0f);
+  pcl::PointCloud<pcl::Texlet> cloud;
+  for (int i = 0; i < n; ++i)
+  {
+    pcl::Texlet t;
+    t.x = u (rng);
+    t.y = u (rng);
+    t.z = 0.12f + u (rng);
+    Eigen::Vector3f nrm (g (rng), g (rng), g (rng));
+    t.getNormalVector3fMap () = nrm.normalized ();
+    t.support = 50;
+    cloud.push_back (t);
+  }
+  return cloud;
+}
+
+void
+BM_AllPairRelations (benchmark::State &state)
+{
+  const int n = static_cast<int> (state.range (0));
+  const auto cloud = randomTexlets (n);
+  const pcl::texlet::KnownObject box = pcl::texlet::paperBoxObject ();
+  std::vector<int> labels (cloud.size ());
+  for (std::size_t i = 0; i < labels.size (); ++i)
+    labels[i] = static_cast<int> (i % 6);
+  pcl::texlet::RelationParameters params;
+  params.threads = static_cast<unsigned> (state.range (1));
+  const bool labelled = state.range (2) != 0;
+  for (auto _ : state)
+  {
+    const auto s = pcl::texlet::accumulateRelations (cloud, box, params, labelled ? labels : std::vector<int> ());
+    benchmark::DoNotOptimize (s.inliers);
+  }
+  state.SetItemsProcessed (state.iterations () * static_cast<std::int64_t> (n) * (n - 1));
+  state.counters["texlets"] = n;
+  state.counters["threads"] = static_cast<double> (params.threads);
+}
+
+} // namespace
+
+BENCHMARK (BM_AllPairRelations)
+    ->ArgNames ({"texlets", "threads", "labels"})
+    ->Args ({3000, 1, 0})
+    ->Args ({3000, 2, 0})
+    ->Args ({10000, 1, 0})
+    ->Args ({10000, 2, 0})
+    ->Args ({10000, 2, 1})
+    ->Args ({30000, 1, 0})
+    ->Args ({30000, 2, 0})
+    ->Args ({30000, 2, 1})
+    ->Unit (benchmark::kMillisecond)
+    ->UseRealTime ()
+    ->Iterations (1);
+
+BENCHMARK_MAIN ();
