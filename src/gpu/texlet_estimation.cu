@@ -262,7 +262,8 @@ TexletEstimation::run (const DeviceArray2D<DevicePoint> &cloud, DeviceArray<Devi
   ctx.colour = colour_;
   const CloudView view = {cloud.ptr (), cloud.step (), cloud.cols (), cloud.rows ()};
 
-  DeviceArray<unsigned int> made (1);
+  DeviceArray<unsigned int> &made = made_counter_;
+  made.create (1);
   PCL_TEXLET_CUDA_CHECK (cudaMemsetAsync (made.ptr (), 0, sizeof (unsigned int), stream_));
   const int blocks = (n + kBlock - 1) / kBlock;
   unsigned char *scratch = nullptr;

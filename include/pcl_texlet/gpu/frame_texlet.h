@@ -10,9 +10,11 @@
  * per thread, and computeTexletsReference runs it on the host, which gives the GPU tests a
  * CPU reference on machines without PCL.
  *
- * Needs neither PCL nor CUDA headers: only the kernels and Random123.
+ * Needs no PCL: only the kernels, Random123 and (for the host compiler) CUDA's runtime API header.
  */
 #pragma once
+
+#include <pcl_texlet/gpu/random123_host_sincospi.h> // before Random123, see there
 
 #include <pcl_texlet/kernels/config.h>
 #include <pcl_texlet/kernels/hex_grid.h>

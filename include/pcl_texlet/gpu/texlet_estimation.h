@@ -74,6 +74,8 @@ public:
   setCamera (const DeviceCamera &camera);
   const DeviceCamera &
   getCamera () const { return camera_; }
+  bool
+  hasCamera () const { return has_camera_; }
 
   /** \brief Depth noise model (default: the paper's polynomial). \throws std::invalid_argument */
   void
@@ -142,6 +144,7 @@ private:
   int disc_radius_ = -1;
   DeviceArray<unsigned char> scratch_; // per-thread scratch for discs too large for registers
   DeviceArray2D<DevicePoint> depth_cloud_; // back-projected depth image
+  DeviceArray<unsigned int> made_counter_; // texlets made, counted on the device
 };
 
 /** \brief Downloads device texlets to the host. */
