@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <numeric>
 #include <string>
 #include <tuple>
@@ -303,6 +304,7 @@ TEST_P (GpuMatchesHostTest, SameTexletsForTheSameSeed)
   ASSERT_EQ (gpu.size (), host.size ());
   const auto c = compareTexlets (gpu, host);
   SCOPED_TRACE (::testing::Message () << c);
+  std::cout << "comparison: " << c << std::endl;
   EXPECT_EQ (c.pixel_mismatch, 0u);
   // The same code on both sides: only rounding (FMA contraction) can flip an inlier decision.
   const std::size_t flips_allowed = precision == Precision::Double ? gpu.size () / 1000 : gpu.size () / 100;

@@ -65,27 +65,35 @@ toDeviceCamera (const texlet::CameraModel &camera);
 DeviceNoise
 toDeviceNoise (const texlet::NoiseModel &noise);
 
-/** \brief Uploads an organised cloud: x, y, z and, when the type has colour, PCL's rgba.
-  * \throws pcl::UnorganizedPointCloudException for an unorganised cloud
+/** \brief An organised cloud as device points on the host: x, y, z and, when the type has
+  * colour, PCL's rgba. \throws pcl::UnorganizedPointCloudException for an unorganised cloud
   */
 template <typename PointT> void
-uploadCloud (const pcl::PointCloud<PointT> &cloud, DeviceArray2D<DevicePoint> &device)
+toDevicePoints (const pcl::PointCloud<PointT> &cloud, std::vector<DevicePoint> &points)
 {
   if (cloud.height <= 1 || static_cast<std::size_t> (cloud.width) * cloud.height != cloud.size ())
-    throw pcl::UnorganizedPointCloudException ("pcl::gpu::uploadCloud: the input cloud is not organised; texlets "
-                                               "need the pixel grid of a depth image");
-  std::vector<DevicePoint> host (cloud.size ());
+    throw pcl::UnorganizedPointCloudException ("pcl::gpu::TexletEstimation: the input cloud is not organised; "
+                                               "texlets need the pixel grid of a depth image");
+  points.resize (cloud.size ());
   for (std::size_t i = 0; i < cloud.size (); ++i)
   {
     const PointT &p = cloud[i];
-    host[i].x = p.x;
-    host[i].y = p.y;
-    host[i].z = p.z;
+    points[i].x = p.x;
+    points[i].y = p.y;
+    points[i].z = p.z;
     if constexpr (pcl::traits::has_color_v<PointT>)
-      host[i].rgba = p.rgba;
+      points[i].rgba = p.rgba;
     else
-      host[i].rgba = 0;
+      points[i].rgba = 0;
   }
+}
+
+/** \brief Uploads an organised cloud (see toDevicePoints). */
+template <typename PointT> void
+uploadCloud (const pcl::PointCloud<PointT> &cloud, DeviceArray2D<DevicePoint> &device)
+{
+  std::vector<DevicePoint> host;
+  toDevicePoints (cloud, host);
   device.upload (host, static_cast<int> (cloud.width));
 }
 
