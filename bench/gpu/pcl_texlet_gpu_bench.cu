@@ -176,7 +176,7 @@ struct Result
 {
   std::string name;
   int spacing, radius, iterations, samples;
-  std::string fit, uncertainty, precision;
+  std::string fit, uncertainty, precision, strategy;
   int texlets = 0;
   unsigned made = 0;
   Stats kernel, end_to_end, upload, download;
@@ -211,9 +211,10 @@ private:
 
 Result
 measure (const DepthFrame &frame, const pcl::gpu::DeviceCamera &camera, const pcl::texlet::TexletParameters &params,
-         Precision precision, int warmup, int runs)
+         Precision precision, pcl::gpu::Strategy strategy, int warmup, int runs)
 {
   pcl::gpu::TexletEstimation est;
+  est.setStrategy (strategy);
   est.setParameters (params);
   est.setCamera (camera);
   est.setPrecision (precision);
@@ -259,6 +260,7 @@ measure (const DepthFrame &frame, const pcl::gpu::DeviceCamera &camera, const pc
   res.fit = fits[static_cast<int> (params.fit)];
   res.uncertainty = uncertainties[static_cast<int> (params.uncertainty)];
   res.precision = precision == Precision::Double ? "double" : "float";
+  res.strategy = est.effectiveStrategy () == pcl::gpu::Strategy::Warp ? "warp" : "thread";
   res.texlets = n;
   res.made = est.getMadeCount ();
   res.kernel = stats (kernel);
@@ -290,7 +292,7 @@ json (const std::vector<Result> &results, const DepthFrame &frame, const cudaDev
     const Result &r = results[i];
     o << "    {\"name\": \"" << r.name << "\", \"spacing\": " << r.spacing << ", \"radius\": " << r.radius
       << ", \"ransac_iterations\": " << r.iterations << ", \"samples\": " << r.samples << ", \"fit\": \"" << r.fit
-      << "\", \"uncertainty\": \"" << r.uncertainty << "\", \"precision\": \"" << r.precision
+      << "\", \"uncertainty\": \"" << r.uncertainty << "\", \"precision\": \"" << r.precision << "\", \"strategy\": \"" << r.strategy
       << "\", \"texlets\": " << r.texlets << ", \"made\": " << r.made << ",\n     \"kernel_ms\": " << st (r.kernel)
       << ",\n     \"end_to_end_ms\": " << st (r.end_to_end) << ",\n     \"upload_ms\": " << st (r.upload)
       << ", \"download_ms\": " << st (r.download) << ",\n     \"target_end_to_end_ms\": " << r.target_ms
@@ -305,7 +307,7 @@ int
 run (int argc, char **argv)
 {
   CLI::App app ("Times GPU texlet extraction (CUDA events, median after warm-up) at the paper's settings.");
-  std::string depth_path, dump_path, json_path, save_path, precision_name = "both", fit_name = "pca",
+  std::string depth_path, dump_path, json_path, save_path, precision_name = "both", strategy_name = "both", fit_name = "pca",
                                                               uncertainty_name = "montecarlo";
   int width = 0, height = 0, runs = 100, warmup = 10;
   double fx = 0, fy = 0, cx = -1, cy = -1;
@@ -320,6 +322,8 @@ run (int argc, char **argv)
   app.add_option ("--runs", runs, "timed runs per setting (at least 50)")->check (CLI::Range (50, 100000));
   app.add_option ("--warmup", warmup, "untimed runs first")->check (CLI::Range (1, 10000));
   app.add_option ("--precision", precision_name, "double, float or both")->check (CLI::IsMember ({"double", "float", "both"}));
+  app.add_option ("--strategy", strategy_name, "thread (one thread per texlet), warp (one warp per texlet) or both")
+      ->check (CLI::IsMember ({"thread", "warp", "both"}));
   app.add_option ("--fit", fit_name, "plane fit: pca, svd or averaging")->check (CLI::IsMember ({"pca", "svd", "averaging"}));
   app.add_option ("--uncertainty", uncertainty_name, "none, analytic or montecarlo")
       ->check (CLI::IsMember ({"none", "analytic", "montecarlo"}));
@@ -383,9 +387,16 @@ run (int argc, char **argv)
   if (precision_name != "double")
     precisions.push_back (Precision::Float);
 
+  std::vector<pcl::gpu::Strategy> strategies;
+  if (strategy_name != "warp")
+    strategies.push_back (pcl::gpu::Strategy::Thread);
+  if (strategy_name != "thread")
+    strategies.push_back (pcl::gpu::Strategy::Warp);
+
   std::vector<Result> results;
   for (const int spacing : {6, 2})
     for (const Precision precision : precisions)
+    for (const pcl::gpu::Strategy strategy : strategies)
     {
       pcl::texlet::TexletParameters p; // Table 1: radius 6, RANSAC 20, Monte Carlo 50
       p.spacing = spacing;
@@ -396,8 +407,9 @@ run (int argc, char **argv)
                       : uncertainty_name == "analytic" ? pcl::texlet::UncertaintyMethod::Analytic
                                                        : pcl::texlet::UncertaintyMethod::MonteCarlo;
       std::cerr << "measuring spacing " << spacing << ", " << (precision == Precision::Double ? "double" : "float")
-                << " (" << warmup << " warm-up + " << runs << " runs)..." << std::endl;
-      Result r = measure (frame, camera, p, precision, warmup, runs);
+                << ", " << (strategy == pcl::gpu::Strategy::Warp ? "warp" : "thread") << " (" << warmup
+                << " warm-up + " << runs << " runs)..." << std::endl;
+      Result r = measure (frame, camera, p, precision, strategy, warmup, runs);
       r.name = spacing == 6 ? "table1_spacing6" : "spacing2";
       r.target_ms = spacing == 6 ? 1.0 : 3.0;
       results.push_back (r);
@@ -406,12 +418,12 @@ run (int argc, char **argv)
   std::cout << "pcl_texlet_gpu_bench on " << prop.name << ", frame " << frame.source << " (" << frame.width << "x"
             << frame.height << "), radius 6, RANSAC 20, " << fit_name << ", " << uncertainty_name
             << " (50 samples); median of " << runs << " runs after " << warmup << " warm-up, ms\n\n";
-  std::cout << std::left << std::setw (18) << "setting" << std::setw (10) << "precision" << std::right << std::setw (9)
+  std::cout << std::left << std::setw (18) << "setting" << std::setw (10) << "precision" << std::setw (8) << "threads" << std::right << std::setw (9)
             << "texlets" << std::setw (9) << "made" << std::setw (11) << "kernel" << std::setw (11) << "upload"
             << std::setw (11) << "download" << std::setw (13) << "end-to-end" << std::setw (9) << "target" << "\n";
   std::cout << std::fixed << std::setprecision (3);
   for (const Result &r : results)
-    std::cout << std::left << std::setw (18) << r.name << std::setw (10) << r.precision << std::right << std::setw (9)
+    std::cout << std::left << std::setw (18) << r.name << std::setw (10) << r.precision << std::setw (8) << r.strategy << std::right << std::setw (9)
               << r.texlets << std::setw (9) << r.made << std::setw (11) << r.kernel.median << std::setw (11)
               << r.upload.median << std::setw (11) << r.download.median << std::setw (13) << r.end_to_end.median
               << std::setw (6) << "< " << std::setprecision (0) << r.target_ms << std::setprecision (3)

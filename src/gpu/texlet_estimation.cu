@@ -12,6 +12,8 @@
  */
 #include <pcl_texlet/gpu/texlet_estimation.h>
 
+#include "texlet_warp_kernel.cuh"
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -174,6 +176,23 @@ TexletEstimation::setNoise (const DeviceNoise &n)
   noise_ = n;
 }
 
+namespace
+{
+/** Shared memory a block of the warp kernel may use without opting in to more. */
+constexpr std::size_t kWarpBlockBytes = 48 * 1024;
+} // namespace
+
+Strategy
+TexletEstimation::effectiveStrategy () const
+{
+  if (strategy_ != Strategy::Warp || params_.fit == texlet::PlaneFitMethod::SVD)
+    return Strategy::Thread;
+  const int disc = kernels::pixelDiscSize (params_.radius);
+  const std::size_t bytes = warp::kWarpsPerBlock * (precision_ == Precision::Double ? warp::warpBytes<double> (disc)
+                                                                                  : warp::warpBytes<float> (disc));
+  return bytes <= kWarpBlockBytes ? Strategy::Warp : Strategy::Thread;
+}
+
 int
 TexletEstimation::texletCount (int width, int height) const
 {
@@ -267,7 +286,13 @@ TexletEstimation::run (const DeviceArray2D<DevicePoint> &cloud, DeviceArray<Devi
   PCL_TEXLET_CUDA_CHECK (cudaMemsetAsync (made.ptr (), 0, sizeof (unsigned int), stream_));
   const int blocks = (n + kBlock - 1) / kBlock;
   unsigned char *scratch = nullptr;
-  if (disc <= 64)
+  if (effectiveStrategy () == Strategy::Warp)
+  {
+    const int wblocks = (n + warp::kWarpsPerBlock - 1) / warp::kWarpsPerBlock;
+    warp::texletWarpKernel<S><<<wblocks, 32 * warp::kWarpsPerBlock, warp::kWarpsPerBlock * warp::warpBytes<S> (disc),
+                                stream_>>> (view, ctx, grid, output.ptr (), made.ptr ());
+  }
+  else if (disc <= 64)
     texletKernel<S, 64><<<blocks, kBlock, 0, stream_>>> (view, ctx, grid, scratch, output.ptr (), made.ptr ());
   else if (disc <= 128)
     texletKernel<S, 128><<<blocks, kBlock, 0, stream_>>> (view, ctx, grid, scratch, output.ptr (), made.ptr ());

@@ -60,9 +60,11 @@ struct Frame
 };
 
 std::vector<DeviceTexlet>
-gpuTexlets (const Frame &f, const TexletParameters &params, Precision precision)
+gpuTexlets (const Frame &f, const TexletParameters &params, Precision precision,
+            pcl::gpu::Strategy strategy = pcl::gpu::Strategy::Thread)
 {
   pcl::gpu::TexletEstimation est;
+  est.setStrategy (strategy);
   est.setParameters (params);
   est.setCamera (f.scene.camera);
   est.setPrecision (precision);
@@ -157,6 +159,24 @@ TEST (GpuParametersTest, BadValuesAreRejectedByName)
   DeviceNoise noise;
   noise.min_sigma_mm = 0;
   EXPECT_THROW (est.setNoise (noise), std::invalid_argument);
+}
+
+TEST (GpuParametersTest, WarpStrategyFallsBackWhereItCannotRun)
+{
+  pcl::gpu::TexletEstimation est;
+  EXPECT_EQ (est.effectiveStrategy (), pcl::gpu::Strategy::Thread); // the default
+  est.setStrategy (pcl::gpu::Strategy::Warp);
+  EXPECT_EQ (est.effectiveStrategy (), pcl::gpu::Strategy::Warp); // Table 1: PCA, radius 6
+  TexletParameters p;
+  p.fit = PlaneFitMethod::SVD; // needs a work buffer per sample: one thread per texlet
+  est.setParameters (p);
+  EXPECT_EQ (est.effectiveStrategy (), pcl::gpu::Strategy::Thread);
+  p.fit = PlaneFitMethod::Averaging;
+  p.radius = 12; // 441 points x 33 bytes x 4 warps: more than 48 KiB of shared memory
+  est.setParameters (p);
+  EXPECT_EQ (est.effectiveStrategy (), pcl::gpu::Strategy::Thread);
+  est.setPrecision (Precision::Float); // 441 x 17 x 4 fits
+  EXPECT_EQ (est.effectiveStrategy (), pcl::gpu::Strategy::Warp);
 }
 
 TEST (GpuParametersTest, ComputeWithoutCameraOrInputIsAnError)
@@ -285,8 +305,9 @@ TEST (GpuTexletEstimationTest, BackProjectionMatchesTheHost)
   }
 }
 
-/** (fit, uncertainty, precision) */
-class GpuMatchesHostTest : public ::testing::TestWithParam<std::tuple<PlaneFitMethod, UncertaintyMethod, Precision>>
+/** (fit, uncertainty, precision, strategy) */
+class GpuMatchesHostTest
+  : public ::testing::TestWithParam<std::tuple<PlaneFitMethod, UncertaintyMethod, Precision, pcl::gpu::Strategy>>
 {
 };
 
@@ -299,7 +320,7 @@ TEST_P (GpuMatchesHostTest, SameTexletsForTheSameSeed)
   p.uncertainty = std::get<1> (GetParam ());
   p.seed = 1234;
   const Precision precision = std::get<2> (GetParam ());
-  const std::vector<DeviceTexlet> gpu = gpuTexlets (f, p, precision);
+  const std::vector<DeviceTexlet> gpu = gpuTexlets (f, p, precision, std::get<3> (GetParam ()));
   const std::vector<DeviceTexlet> host = hostTexlets (f, p, precision);
   ASSERT_EQ (gpu.size (), host.size ());
   const auto c = compareTexlets (gpu, host);
@@ -324,7 +345,8 @@ methodName (const ::testing::TestParamInfo<GpuMatchesHostTest::ParamType> &info)
   const char *fits[] = {"PCA", "SVD", "Averaging"}, *unc[] = {"None", "Analytic", "MonteCarlo"};
   return std::string (fits[static_cast<int> (std::get<0> (info.param))]) + "_" +
          unc[static_cast<int> (std::get<1> (info.param))] + "_" +
-         (std::get<2> (info.param) == Precision::Double ? "Double" : "Float");
+         (std::get<2> (info.param) == Precision::Double ? "Double" : "Float") +
+         (std::get<3> (info.param) == pcl::gpu::Strategy::Thread ? "_Thread" : "_Warp");
 }
 
 INSTANTIATE_TEST_SUITE_P (
@@ -332,7 +354,8 @@ INSTANTIATE_TEST_SUITE_P (
     ::testing::Combine (::testing::Values (PlaneFitMethod::PCA, PlaneFitMethod::SVD, PlaneFitMethod::Averaging),
                         ::testing::Values (UncertaintyMethod::None, UncertaintyMethod::Analytic,
                                            UncertaintyMethod::MonteCarlo),
-                        ::testing::Values (Precision::Double, Precision::Float)),
+                        ::testing::Values (Precision::Double, Precision::Float),
+                        ::testing::Values (pcl::gpu::Strategy::Thread, pcl::gpu::Strategy::Warp)),
     methodName);
 
 TEST (GpuTexletEstimationTest, LargeDiscsUseGlobalScratchAndStillMatch)

@@ -239,17 +239,22 @@ TEST_P (GpuPclMethodsTest, GpuMatchesTheCpuPath)
   const auto p = parameters (std::get<0> (GetParam ()), std::get<1> (GetParam ()));
   const auto camera = std::make_shared<pcl::texlet::PinholeModel> (pcl::texlet::estimatePinholeModel (cloud));
   const std::vector<pcl::Texlet> cpu = cpuTexlets (cloud, p, camera);
-  pcl::gpu::TexletEstimation est;
-  est.setParameters (p);
-  est.setCamera (pcl::gpu::toDeviceCamera (*camera));
-  pcl::PointCloud<pcl::Texlet> gpu;
-  est.compute (cloud, gpu);
-  ASSERT_EQ (gpu.size (), cpu.size ());
-  EXPECT_EQ (est.getMadeCount (), static_cast<unsigned> (std::count_if (
-                                      cpu.begin (), cpu.end (), [] (const pcl::Texlet &t) { return t.support > 0; })));
-  // FMA contraction on the device can flip an inlier decision at the threshold, rarely.
-  expectAgreement (compareTexlets (std::vector<pcl::Texlet> (gpu.begin (), gpu.end ()), cpu), cpu.size (),
-                   p.uncertainty, cpu.size () / 1000);
+  for (const pcl::gpu::Strategy strategy : {pcl::gpu::Strategy::Thread, pcl::gpu::Strategy::Warp})
+  {
+    SCOPED_TRACE (strategy == pcl::gpu::Strategy::Thread ? "one thread per texlet" : "one warp per texlet");
+    pcl::gpu::TexletEstimation est;
+    est.setStrategy (strategy);
+    est.setParameters (p);
+    est.setCamera (pcl::gpu::toDeviceCamera (*camera));
+    pcl::PointCloud<pcl::Texlet> gpu;
+    est.compute (cloud, gpu);
+    ASSERT_EQ (gpu.size (), cpu.size ());
+    EXPECT_EQ (est.getMadeCount (), static_cast<unsigned> (std::count_if (
+                                        cpu.begin (), cpu.end (), [] (const pcl::Texlet &t) { return t.support > 0; })));
+    // FMA contraction on the device can flip an inlier decision at the threshold, rarely.
+    expectAgreement (compareTexlets (std::vector<pcl::Texlet> (gpu.begin (), gpu.end ()), cpu), cpu.size (),
+                     p.uncertainty, cpu.size () / 1000);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P (

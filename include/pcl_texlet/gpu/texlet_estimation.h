@@ -32,6 +32,14 @@ enum class Precision : int
   Float = 1   ///< faster on most GPUs; RANSAC inlier decisions can differ at the threshold
 };
 
+/** \brief How the device's threads share the texlets. */
+enum class Strategy : int
+{
+  Thread = 0, ///< one thread per texlet running kernels::computeTexlet itself (default)
+  Warp = 1    ///< one warp per texlet: RANSAC hypotheses and Monte Carlo samples across the lanes
+              ///< (PCA and averaging fits; SVD and discs over 360 points use Thread)
+};
+
 /** \brief Checks every field of \a p for the GPU backend.
   * \throws std::invalid_argument naming the field and its value
   */
@@ -82,6 +90,18 @@ public:
   setNoise (const DeviceNoise &noise);
   const DeviceNoise &
   getNoise () const { return noise_; }
+
+  /** \brief Thread (default) or Warp; see Strategy. */
+  void
+  setStrategy (Strategy s) { strategy_ = s; }
+  Strategy
+  getStrategy () const { return strategy_; }
+
+  /** \brief The strategy compute() uses for the current parameters (Warp falls back to Thread
+    * for the SVD fit and for discs too large for shared memory).
+    */
+  Strategy
+  effectiveStrategy () const;
 
   void
   setPrecision (Precision p) { precision_ = p; }
@@ -137,6 +157,7 @@ private:
   bool has_camera_ = false;
   DeviceNoise noise_;
   Precision precision_ = Precision::Double;
+  Strategy strategy_ = Strategy::Thread;
   bool colour_ = false;
   cudaStream_t stream_ = nullptr;
   unsigned int made_ = 0;
