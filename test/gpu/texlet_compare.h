@@ -29,6 +29,7 @@ struct TexletComparison
   double max_centre_m = 0;           ///< largest distance between centres
   double max_cov_p_rel = 0, max_cov_n_rel = 0; ///< largest relative covariance differences
   std::size_t rgba_mismatch = 0;
+  std::size_t normal_over = 0, cov_over = 0; ///< texlets beyond the issue's tolerances (1e-4 rad, 1e-3)
 };
 
 inline double
@@ -91,8 +92,11 @@ compareTexlets (const std::vector<TexletA> &a, const std::vector<TexletB> &ref)
     const float na[3] = {x.cov_n_11, x.cov_n_12, x.cov_n_22};
     const float nb[3] = {y.cov_n_11, y.cov_n_12, y.cov_n_22};
     const int dp[3] = {0, 3, 5}, dn[2] = {0, 2};
-    c.max_cov_p_rel = std::max (c.max_cov_p_rel, relativeDifference (pa, pb, 6, dp, 3));
-    c.max_cov_n_rel = std::max (c.max_cov_n_rel, relativeDifference (na, nb, 3, dn, 2));
+    const double rp = relativeDifference (pa, pb, 6, dp, 3), rn = relativeDifference (na, nb, 3, dn, 2);
+    c.max_cov_p_rel = std::max (c.max_cov_p_rel, rp);
+    c.max_cov_n_rel = std::max (c.max_cov_n_rel, rn);
+    c.normal_over += angle > 1e-4 ? 1 : 0;
+    c.cov_over += (rp > 1e-3 || rn > 1e-3) ? 1 : 0;
     if (x.rgba != y.rgba)
       ++c.rgba_mismatch;
   }
@@ -106,7 +110,8 @@ operator<< (std::ostream &os, const TexletComparison &c)
   return os << c.compared << " compared, " << c.made_mismatch << " made by one side only, " << c.support_mismatch
             << " with different support, max normal angle " << c.max_normal_rad << " rad, max centre distance "
             << c.max_centre_m << " m, max relative Sigma_P difference " << c.max_cov_p_rel << ", Sigma_N "
-            << c.max_cov_n_rel << ", " << c.rgba_mismatch << " colours differ";
+            << c.max_cov_n_rel << ", " << c.rgba_mismatch << " colours differ, " << c.normal_over
+            << " normals beyond 1e-4 rad, " << c.cov_over << " covariances beyond 1e-3";
 }
 
 } // namespace pcl_texlet_test
