@@ -31,7 +31,8 @@ constexpr int kBlock = 128;
 template <typename S> __host__ __device__ std::size_t
 scratchBytes (int disc)
 {
-  const std::size_t b = 7 * sizeof (S) * static_cast<std::size_t> (disc) + static_cast<std::size_t> (disc);
+  const std::size_t values = 4 * static_cast<std::size_t> (disc) + kernels::texletWorkSize (disc);
+  const std::size_t b = sizeof (S) * values + static_cast<std::size_t> (disc);
   return (b + 15) / 16 * 16;
 }
 
@@ -40,7 +41,8 @@ __device__ TexletScratch<S>
 globalScratch (unsigned char *base, int disc, int thread)
 {
   S *p = reinterpret_cast<S *> (base + scratchBytes<S> (disc) * thread);
-  return {p, p + disc, p + 2 * disc, p + 3 * disc, p + 4 * disc, reinterpret_cast<unsigned char *> (p + 7 * disc)};
+  return {p, p + disc, p + 2 * disc, p + 3 * disc, p + 4 * disc,
+          reinterpret_cast<unsigned char *> (p + 4 * disc + kernels::texletWorkSize (disc))};
 }
 
 /** One texlet per thread. Cap > 0: the disc in local arrays of Cap points; 0: global scratch. */
@@ -58,7 +60,7 @@ texletKernel (CloudView cloud, FrameTexletContext<S> ctx, kernels::HexGrid grid,
   bool ok;
   if constexpr (Cap > 0)
   {
-    S x[Cap], y[Cap], z[Cap], s[Cap], work[3 * Cap];
+    S x[Cap], y[Cap], z[Cap], s[Cap], work[kernels::texletWorkSize (Cap)];
     unsigned char mask[Cap];
     const TexletScratch<S> ws = {x, y, z, s, work, mask};
     ok = frameTexlet (cloud, ctx, u, v, ws, t);

@@ -254,7 +254,7 @@ texletSettings (const texlet::TexletParameters &p)
   return s;
 }
 
-/** \brief Scratch of one texlet: disc-sized x, y, z, sigma and mask, and 3 x disc work values. */
+/** \brief Scratch of one texlet: disc-sized x, y, z, sigma and mask, and texletWorkSize (disc) work values. */
 template <typename S>
 struct TexletScratch
 {
@@ -432,7 +432,7 @@ computeTexletsReference (const std::vector<DevicePoint> &cloud, int width, int h
   ctx.disc_du = du.data ();
   ctx.disc_dv = dv.data ();
   ctx.disc = disc;
-  std::vector<S> x (disc), y (disc), z (disc), s (disc), work (3 * disc);
+  std::vector<S> x (disc), y (disc), z (disc), s (disc), work (kernels::texletWorkSize (disc));
   std::vector<unsigned char> mask (disc);
   const TexletScratch<S> ws = {x.data (), y.data (), z.data (), s.data (), work.data (), mask.data ()};
   const CloudView view = {cloud.data (), width * sizeof (DevicePoint), width, height};

@@ -48,7 +48,7 @@ struct TexletResult
 };
 
 /** \brief Scratch values computeTexlet() needs for a neighbourhood of \a count points. */
-PCL_TEXLET_HD int
+PCL_TEXLET_HD constexpr int
 texletWorkSize (int count)
 {
   const int mc = monteCarloPcaWorkSize (count);

@@ -358,7 +358,7 @@ struct PointMomentLanes
 };
 
 /** \brief Scratch values monteCarloPcaCovariance() needs for \a count points. */
-PCL_TEXLET_HD int
+PCL_TEXLET_HD constexpr int
 monteCarloPcaWorkSize (int count)
 {
   return 6 * ((count + 3) / 4) * 4;
