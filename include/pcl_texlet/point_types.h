@@ -38,7 +38,7 @@ struct EIGEN_ALIGN16 _Texlet
 };
 
 /** \brief A texlet: a local surface patch with centre P, normal N, their covariances, size,
-  * support and mean colour (Jensen et al., "Real-time extraction of surface patches with
+  * support and mean colour (Olesen et al., "Real-time extraction of surface patches with
   * associated uncertainties by means of Kinect cameras").
   *
   * Sigma_N is the 2x2 covariance of N's deviation along the tangents t1, t2 returned by

@@ -35,7 +35,7 @@ computeTexlet (const pcl::PointCloud<PointInT> &cloud, pcl::index_t centre, cons
 
 /** \brief TexletEstimation extracts texlets (surface patches with centre, normal, their
   * covariances, size and mean colour) from an organised point cloud of a depth camera, after
-  * Jensen et al., "Real-time extraction of surface patches with associated uncertainties by
+  * Olesen et al., "Real-time extraction of surface patches with associated uncertainties by
   * means of Kinect cameras".
   *
   * Centres lie on a hexagonal pixel grid (setSpacing) unless indices are set. Each texlet's

@@ -26,8 +26,8 @@ namespace kernels
   *
   * Physics: the correlation peak of the dot pattern is located with an error of roughly
   * constant size in pixels, whatever the depth. Through z = f b / d that gives a depth SD of
-  * sigma_px z^2 / (f b): quadratic in depth (Khoshelham and Elberink 2012 measured about
-  * 1.4 mm at 1 m for the Kinect v1, i.e. sigma_px ~ 0.06).
+  * sigma_px z^2 / (f b): quadratic in depth, as Khoshelham and Oude Elberink 2012 derived and
+  * measured for the Kinect v1 (random error growing to about 4 cm at its 5 m maximum range).
   * Added in quadrature to the base noise (the paper's polynomial converted to disparity).
   */
 struct AxialQuadratic
