@@ -175,6 +175,34 @@ TEST_F (Viewer, GrabberTiffFolder)
   EXPECT_NE (s.str ().find ("frame_20121214T142255.814212  |"), std::string::npos) << s.str ();
 }
 
+TEST_F (Viewer, GpuBackendRunsOrSaysWhyNot)
+{
+  // With a CUDA device (and a CUDA build) the texlets come from the GPU backend; without one,
+  // --gpu is refused on one line naming the reason, and no image is written.
+  const fs::path png = dir / "shot.png";
+  std::string err;
+  const int rc = run (kFrame + " -u analytic --gpu --size 640 --screenshot " + png.string (), &err);
+  std::ifstream out (dir / "out");
+  std::stringstream s;
+  s << out.rdbuf ();
+  if (rc == 2)
+  {
+    EXPECT_EQ (std::count (err.begin (), err.end (), '\n'), 1) << err;
+    EXPECT_TRUE (err.find ("--gpu: no CUDA device found") != std::string::npos ||
+                 err.find ("--gpu: this build has no CUDA backend") != std::string::npos)
+        << err;
+    EXPECT_FALSE (fs::exists (png));
+  }
+  else
+  {
+    ASSERT_EQ (rc, 0) << err;
+    EXPECT_NE (s.str ().find ("(GPU, spacing 6"), std::string::npos) << s.str ();
+    Image img;
+    img.rgb = pcl::texlet::readRgbPng (png.string (), img.width, img.height);
+    EXPECT_GT (litFraction (img), 0.3);
+  }
+}
+
 TEST_F (Viewer, WithoutInputOrSensorItPlaysTheBundledFrames)
 {
   // No OpenNI2 device is connected on a test machine: the viewer falls back to data/kinect.

@@ -5,6 +5,7 @@
  */
 #include "../common/app_main.h"
 #include "frame_sources.h"
+#include "texlet_backend.h"
 #include "texlet_layers.h"
 
 #include <pcl_texlet/texlet_estimation.h>
@@ -84,9 +85,9 @@ class Viewer
 {
 public:
   Viewer (FrameSource::Ptr source, const pcl::texlet::TexletParameters &params, const Layers &layers,
-          const LayerScales &scales, bool interactive, int width, int height)
+          const LayerScales &scales, bool interactive, bool gpu, int width, int height)
     : source_ (std::move (source)), params_ (params), layers_ (layers), scales_ (scales), interactive_ (interactive),
-      height_ (height)
+      gpu_ (gpu), height_ (height)
   {
     if (interactive)
       vis_ = std::make_unique<pcl::visualization::PCLVisualizer> (kName);
@@ -177,19 +178,23 @@ private:
       ms_ = 0;
       return;
     }
-    pcl::TexletEstimation<pcl::PointXYZRGBA> est;
-    est.setParameters (params_);
-    est.setInputCloud (frame_.cloud);
-    est.setCameraModel (frame_.camera);
     auto out = std::make_shared<Texlets> ();
     const auto t0 = std::chrono::steady_clock::now ();
     try
     {
-      est.compute (*out);
+      computeTexlets (frame_.cloud, frame_.camera, params_, gpu_, *out);
     }
     catch (const pcl::PCLException &e)
     {
       throw InputError (frame_.name + ": " + pclMessage (e.what ()));
+    }
+    catch (const std::runtime_error &e) // a CUDA error: say so and go on on the CPU
+    {
+      if (!gpu_)
+        throw;
+      std::cout << "GPU backend failed (" << e.what () << "); back on the CPU" << std::endl;
+      gpu_ = false;
+      computeTexlets (frame_.cloud, frame_.camera, params_, false, *out);
     }
     ms_ = std::chrono::duration<double, std::milli> (std::chrono::steady_clock::now () - t0).count ();
     texlets_ = out;
@@ -245,7 +250,7 @@ private:
     std::ostringstream s;
     s << std::fixed << std::setprecision (1) << frame_.name << "  |  " << valid << " texlets";
     if (!frame_.texlets)
-      s << " in " << ms_ << " ms (CPU, spacing " << params_.spacing << ", radius " << params_.radius << ", "
+      s << " in " << ms_ << " ms (" << (gpu_ ? "GPU" : "CPU") << ", spacing " << params_.spacing << ", radius " << params_.radius << ", "
         << pcl::texlet::toString (params_.fit) << ", " << pcl::texlet::toString (params_.uncertainty) << ")";
     if (interactive_)
       s << "  |  " << fps << " fps";
@@ -309,7 +314,16 @@ private:
     else if (key == "asterisk" || key == "KP_Multiply") { scaleAxes (2.0); }
     else if (key == "slash" || key == "KP_Divide") { scaleAxes (0.5); }
     else if (key == "g")
-      std::cout << "GPU backend: not available in this build (CUDA backend not compiled); staying on the CPU" << std::endl;
+    {
+      std::string why;
+      if (!gpu_ && !gpuAvailable (why))
+        std::cout << "GPU backend: " << why << "; staying on the CPU" << std::endl;
+      else
+      {
+        gpu_ = !gpu_;
+        dirty_ = true;
+      }
+    }
     else if (key == "space") playing_ = !playing_;
     else if (key == "h") std::cout << kHelp << std::flush;
   }
@@ -327,6 +341,7 @@ private:
   Layers layers_;
   LayerScales scales_;
   bool interactive_;
+  bool gpu_; ///< texlets on the CUDA backend
   int height_;
   std::unique_ptr<pcl::visualization::PCLVisualizer> vis_;
   std::map<std::string, vtkSmartPointer<vtkActor>> actors_;
@@ -359,6 +374,7 @@ run (int argc, char **argv)
   pcl::texlet::TexletParameters params;
   LayerScales scales;
   int width = 1024, height = 768;
+  bool gpu = false;
   CLI::App app ("View texlets live or from files, in the manner of pcl_viewer.\n"
                 "INPUT: an organised PCD file, a texlet PCD file (from pcl_texlet_extract), a folder of PCD files, a\n"
                 "recording folder, a folder of PCL grabber TIFFs, a .oni file, or 'sensor'. Without INPUT: the first OpenNI2 sensor, else the bundled "
@@ -373,6 +389,7 @@ run (int argc, char **argv)
   app.add_option ("-u,--uncertainty", uncertainty, "uncertainty: montecarlo, analytic, none")->capture_default_str ();
   app.add_option ("--disc-scale", scales.disc, "disc radius / texlet radius")->capture_default_str ();
   app.add_option ("--sigma-scale", scales.sigma_p, "length of the Sigma_P axes in SDs")->capture_default_str ();
+  app.add_flag ("--gpu", gpu, "start on the CUDA backend (key g switches)");
   app.add_option ("--size", width, "window width, pixels (height = 3/4 of it)")->capture_default_str ();
   try
   {
@@ -409,7 +426,10 @@ run (int argc, char **argv)
     else if (!(source = openFirstSensor ()))
       source = openSource (bundledFrames ());
 
-    Viewer viewer (std::move (source), params, shown, scales, screenshot.empty (), width, height);
+    std::string why;
+    if (gpu && !gpuAvailable (why))
+      throw InputError ("--gpu: " + why);
+    Viewer viewer (std::move (source), params, shown, scales, screenshot.empty (), gpu, width, height);
     if (screenshot.empty ())
       viewer.spin ();
     else
