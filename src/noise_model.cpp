@@ -109,6 +109,7 @@ NoiseModel::moments (const PixelContext &ctx) const
       unscaled += t->variance (ctx);
     factor *= t->varianceFactor (ctx);
     m.column_variance_mm2 += t->columnVariance (ctx);
+    m.frame_variance_mm2 += t->frameVariance (ctx);
     m.bias_mm += t->bias (ctx);
   }
   m.variance_mm2 = scaled * factor + unscaled;

@@ -152,6 +152,13 @@ VerticalStripesTerm::columnVariance (const PixelContext &ctx) const
   return s * s;
 }
 
+double
+VerticalStripesTerm::frameVariance (const PixelContext &ctx) const
+{
+  const double bands = values_[1] > 1.0 ? values_[1] : 1.0;
+  return columnVariance (ctx) / bands;
+}
+
 std::string
 VerticalStripesTerm::physics () const
 {
@@ -296,7 +303,7 @@ makeNoiseTerm (const std::string &name)
   if (name == "radial")
     return std::make_shared<RadialTerm> ();
   if (name == "disparity_quantization")
-    return std::make_shared<DisparityQuantizationTerm> ();
+    return std::make_shared<DisparityQuantizationTerm> (0.0);
   if (name == "incidence_angle")
     return std::make_shared<IncidenceAngleTerm> ();
   if (name == "vertical_stripes")

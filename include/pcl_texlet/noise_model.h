@@ -43,6 +43,7 @@ struct NoiseMoments
   double bias_mm = 0.0;               ///< expected measured minus true depth, mm
   double variance_mm2 = 0.0;          ///< variance independent from pixel to pixel, mm^2
   double column_variance_mm2 = 0.0;   ///< variance shared by a column of pixels within a frame, mm^2
+  double frame_variance_mm2 = 0.0;    ///< the part of it shared by all pixels of a frame, mm^2
   double sigma_mm = 0.0;              ///< total SD, sqrt of both variances, never below the floor
 };
 
@@ -82,6 +83,10 @@ public:
   /** \brief Variance shared by all pixels of a column within one frame (vertical stripes), mm^2. */
   virtual double
   columnVariance (const PixelContext &) const { return 0.0; }
+
+  /** \brief The part of columnVariance () shared by every pixel of a frame, mm^2. */
+  virtual double
+  frameVariance (const PixelContext &) const { return 0.0; }
 
   /** \brief Applied last, to the bias and the independent variance of the depth before the
     * sensor reports it (disparity quantisation). Identity by default.

@@ -115,14 +115,18 @@ public:
   std::string signature () const override { return "incidence"; }
 };
 
-/** \brief `vertical_stripes`: a disparity offset of SD offset_px shared by a column in a frame. */
+/** \brief `vertical_stripes`: a disparity offset of SD offset_px shared by a column in a frame;
+  * `bands` independent bands across the image, so a frame's mean offset has variance offset^2 / bands.
+  */
 class VerticalStripesTerm : public EffectTerm
 {
 public:
-  explicit VerticalStripesTerm (double offset_px = 0.0) : EffectTerm ("vertical_stripes", {"offset_px"}, {offset_px}) {}
+  explicit VerticalStripesTerm (double offset_px = 0.0, double bands = 6.0)
+    : EffectTerm ("vertical_stripes", {"offset_px", "bands"}, {offset_px, bands}) {}
   double variance (const PixelContext &) const override { return 0.0; }
   bool scaledByFactors () const override { return false; }
   double columnVariance (const PixelContext &ctx) const override;
+  double frameVariance (const PixelContext &ctx) const override;
   NoiseTerm::Ptr clone () const override { return std::make_shared<VerticalStripesTerm> (*this); }
   std::string physics () const override;
   std::string signature () const override { return "column"; }
