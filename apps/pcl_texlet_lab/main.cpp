@@ -46,7 +46,8 @@ run (int argc, char **argv)
   std::string effects;
   for (const auto &e : pcl::texlet::noiseEffectNames ())
     effects += (effects.empty () ? "" : ", ") + e;
-  app.add_option ("--add", adds, "add this effect and refit (repeatable, in order): " + effects);
+  app.add_option ("--add", adds, "add this effect and refit (repeatable, in order): " + effects)
+      ->allow_extra_args (false);
   app.add_option ("--auto", auto_count, "then add the N best significant candidates in turn")->capture_default_str ();
   app.add_option ("--report", report, "output folder for report.html, report.json, model.yaml and the PNGs");
   app.add_option ("--null-replicates", replicates, "bootstrap data sets of the significance test")
