@@ -497,7 +497,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
                       {"incidence angle", "deg", covIncidence, false}, {"column", "px", covColumn, false},
                       {"row", "px", covRow, false},             {"sub-step phase", "1", covPhase, false},
                       {"edge distance", "px (40 = none)", covEdge, false}, {"active projectors", "1", covProjectors, true}};
-  std::vector<std::string> worst_covariates;
+  std::vector<Region> worst_covariates;
   for (int which = 0; which < 2; ++which)
   {
     const std::string name = which ? "bias_vs_covariates.png" : "sd_ratio_vs_covariates.png";
@@ -524,12 +524,18 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
           << "\n";
       d.close ();
       if (!which)
+      {
+        // The covariate's worst bin, if it is off by more than 25 %.
+        std::size_t worst = a.x.size ();
         for (std::size_t k = 0; k < a.x.size (); ++k)
-          if (std::fabs (std::log (a.ratio_mean[k])) > std::log (1.25))
-          {
-            worst_covariates.push_back (std::string (cv.name) + " near " + fmt (a.x[k], 4) + " " + cv.unit +
-                                        ": measured SD " + fmt (a.ratio_mean[k], 3) + " x the predicted");
-          }
+          if (std::fabs (std::log (a.ratio_mean[k])) > std::log (1.25) &&
+              (worst == a.x.size () || std::fabs (std::log (a.ratio_mean[k])) > std::fabs (std::log (a.ratio_mean[worst]))))
+            worst = k;
+        if (worst < a.x.size ())
+          worst_covariates.push_back ({std::string (cv.name) + " near " + fmt (a.x[worst], 4) + " " + cv.unit +
+                                           ": measured SD " + fmt (a.ratio_mean[worst], 3) + " x the predicted",
+                                       std::fabs (std::log (a.ratio_mean[worst]))});
+      }
       g << "set xlabel '" << cv.name << " (" << cv.unit << ")'\n"
         << (which ? "set ylabel 'mm'\n" : "set ylabel 'ratio'\n")
         << "plot '" << file << "' index 0 using 1:2:3 with yerrorlines pt 7 ps 0.5 title 'start', "
@@ -618,9 +624,12 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
   h << "<p>Worst regions (32 px blocks) under the starting model:</p><ul>\n";
   for (std::size_t k = 0; k < std::min<std::size_t> (regions.size (), 5); ++k)
     h << "<li>" << escape (regions[k].text) << "</li>\n";
-  h << "</ul>\n<p>Covariate bins where the measured SD differs from the predicted by more than 25 %:</p><ul>\n";
-  for (std::size_t k = 0; k < std::min<std::size_t> (worst_covariates.size (), 8); ++k)
-    h << "<li>" << escape (worst_covariates[k]) << "</li>\n";
+  h << "</ul>\n<p>The worst bin of each covariate where the measured SD differs from the predicted by more "
+       "than 25 %, worst first:</p><ul>\n";
+  std::sort (worst_covariates.begin (), worst_covariates.end (),
+             [] (const Region &a, const Region &b) { return a.score > b.score; });
+  for (const auto &w : worst_covariates)
+    h << "<li>" << escape (w.text) << "</li>\n";
   if (worst_covariates.empty ())
     h << "<li>none</li>\n";
   h << "</ul>\n<h2>4. What is missing: the candidates</h2>\n<p>Each effect not in the model was fitted together with "

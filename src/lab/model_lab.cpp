@@ -1090,6 +1090,9 @@ ModelLab::evaluate (const NoiseModel &model, Half half) const
     }
     const double k = static_cast<double> (d.frame_list[r].size ());
     drift_var[r] = k > 1 ? (s2 - s1 * s1 / k) / (k - 1) : 0.0;
+    // The surface fit takes up the mean offset over the frames; the samples see the rest.
+    for (int t : d.frame_list[r])
+      drift[r][t] -= s1 / k;
   }
   const int P = static_cast<int> (d.px.size ());
   double sd2 = 0, b2 = 0, lp = 0, in1 = 0, in2 = 0, count = 0;
