@@ -1096,7 +1096,6 @@ ModelLab::evaluate (const NoiseModel &model, Half half) const
   }
   const int P = static_cast<int> (d.px.size ());
   double sd2 = 0, b2 = 0, lp = 0, in1 = 0, in2 = 0, count = 0;
-  std::vector<double> dummy;
 #pragma omp parallel for schedule(dynamic, 4096) reduction(+ : sd2, b2, lp, in1, in2, count) num_threads(settings_.threads > 0 ? settings_.threads : omp_get_max_threads ())
   for (int k = 0; k < P; ++k)
   {
