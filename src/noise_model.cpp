@@ -91,25 +91,57 @@ NoiseModel::find (const std::string &name) const
   return nullptr;
 }
 
+NoiseMoments
+NoiseModel::moments (const PixelContext &ctx) const
+{
+  NoiseMoments m;
+  if (!(ctx.depth_mm > 0.0) || !std::isfinite (ctx.depth_mm))
+  {
+    m.sigma_mm = std::nan ("");
+    return m;
+  }
+  double scaled = 0.0, unscaled = 0.0, factor = 1.0;
+  for (const auto &t : terms_)
+  {
+    if (t->scaledByFactors ())
+      scaled += t->variance (ctx);
+    else
+      unscaled += t->variance (ctx);
+    factor *= t->varianceFactor (ctx);
+    m.column_variance_mm2 += t->columnVariance (ctx);
+    m.frame_variance_mm2 += t->frameVariance (ctx);
+    m.bias_mm += t->bias (ctx);
+  }
+  m.variance_mm2 = scaled * factor + unscaled;
+  for (const auto &t : terms_)
+    t->transformMoments (ctx, m.bias_mm, m.variance_mm2);
+  const double s = std::sqrt (m.variance_mm2 + m.column_variance_mm2);
+  m.sigma_mm = s > min_sigma_mm_ ? s : min_sigma_mm_;
+  return m;
+}
+
 double
 NoiseModel::sigmaMm (const PixelContext &ctx) const
 {
-  if (!(ctx.depth_mm > 0.0) || !std::isfinite (ctx.depth_mm))
-    return std::nan ("");
-  double var = 0.0;
-  for (const auto &t : terms_)
-    var += t->variance (ctx);
-  const double s = std::sqrt (var);
-  return s > min_sigma_mm_ ? s : min_sigma_mm_;
+  return moments (ctx).sigma_mm;
 }
 
 double
 NoiseModel::biasMm (const PixelContext &ctx) const
 {
-  double b = 0.0;
-  for (const auto &t : terms_)
-    b += t->bias (ctx);
-  return b;
+  return moments (ctx).bias_mm;
+}
+
+bool
+NoiseModel::remove (const std::string &name)
+{
+  for (auto it = terms_.begin (); it != terms_.end (); ++it)
+    if ((*it)->name () == name)
+    {
+      terms_.erase (it);
+      return true;
+    }
+  return false;
 }
 
 void

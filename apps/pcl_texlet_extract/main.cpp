@@ -11,6 +11,7 @@
 #include <pcl_texlet/pinhole_model.h>
 #include <pcl_texlet/recording.h>
 #include <pcl_texlet/recording_readers.h>
+#include <pcl_texlet/noise_model_io.h>
 #include <pcl_texlet/texlet_estimation.h>
 
 #include <pcl/console/print.h>
@@ -45,6 +46,8 @@ struct Options
   std::string fit = "pca", uncertainty = "montecarlo";
   double threshold_mm = 0.0;
   std::vector<double> intrinsics; // fx fy cx cy
+  std::string noise_model;        // noise-model YAML (pcl_texlet_lab's model.yaml), or empty: the paper's
+  pcl::texlet::NoiseModel noise = pcl::texlet::NoiseModel::paper ();
   unsigned threads = 0;
   bool ascii = false, quiet = false;
 };
@@ -103,6 +106,7 @@ public:
   {
     pcl::TexletEstimation<PointT> est;
     est.setParameters (o_.params);
+    est.setNoiseModel (o_.noise);
     est.setNumberOfThreads (o_.threads);
     est.setInputCloud (cloud);
     est.setCameraModel (camera_ ? camera_ : camera);
@@ -264,6 +268,8 @@ run (int argc, char **argv)
   app.add_option ("--camera", o.intrinsics, "pinhole intrinsics fx fy cx cy, pixels (default: the recording's, "
                                             "or estimated from each PCD cloud)")
       ->expected (4);
+  app.add_option ("--noise-model", o.noise_model,
+                  "depth noise model YAML (e.g. the model.yaml pcl_texlet_lab writes; default: the paper's Eq. 4)");
   app.add_option ("-j,--threads", o.threads, "threads (0: all)")->capture_default_str ();
   app.add_flag ("--ascii", o.ascii, "write ASCII PCD (9 significant digits: exact) instead of binary");
   app.add_flag ("-q,--quiet", o.quiet, "no progress lines");
@@ -288,6 +294,8 @@ run (int argc, char **argv)
     o.params.uncertainty = pcl::texlet::uncertaintyMethodFromString (o.uncertainty);
     o.params.ransac_threshold = o.threshold_mm * 1e-3;
     pcl::texlet::validate (o.params);
+    if (!o.noise_model.empty ())
+      o.noise = pcl::texlet::loadNoiseModelYaml (o.noise_model);
     if (o.threads > 1024)
       throw InputError ("--threads " + std::to_string (o.threads) + " is not a sensible thread count");
     Extractor ex (o);

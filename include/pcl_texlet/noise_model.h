@@ -10,6 +10,7 @@
 
 #include <pcl_texlet/kernels/noise_terms.h>
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,6 +27,24 @@ struct PixelContext
   double v = 0.0;         ///< row, pixels
   double radius_px = 0.0; ///< distance from the principal point, pixels
   double depth_mm = 0.0;  ///< measured depth, millimetres
+  // Covariates of the effect terms (DESIGN.md section 5). The defaults describe what is known
+  // from a single frame, where terms fall back to their steady, phase-averaged form.
+  double cos_incidence = 1.0;      ///< cosine of the angle between surface normal and viewing ray
+  double active_projectors = 1.0;  ///< projectors lighting the scene, the sensor's own included
+  double frame = std::numeric_limits<double>::quiet_NaN ();         ///< frame index since power-on; NaN: steady state
+  double true_depth_mm = std::numeric_limits<double>::quiet_NaN (); ///< noise-free depth where known (the lab); NaN: unknown
+  double edge_distance_px = std::numeric_limits<double>::infinity (); ///< distance to the nearest depth edge, pixels
+  double fb_px_m = 580.0 * 0.075;  ///< focal length (px) times baseline (m): disparity = fb / z
+};
+
+/** \brief What a model predicts for one depth sample: bias and the parts of its variance. */
+struct NoiseMoments
+{
+  double bias_mm = 0.0;               ///< expected measured minus true depth, mm
+  double variance_mm2 = 0.0;          ///< variance independent from pixel to pixel, mm^2
+  double column_variance_mm2 = 0.0;   ///< variance shared by a column of pixels within a frame, mm^2
+  double frame_variance_mm2 = 0.0;    ///< the part of it shared by all pixels of a frame, mm^2
+  double sigma_mm = 0.0;              ///< total SD, sqrt of both variances, never below the floor
 };
 
 /** \brief One physical contribution to the depth noise. */
@@ -48,6 +67,32 @@ public:
   /** \brief Bias contribution (measured minus true depth), mm. */
   virtual double
   bias (const PixelContext &) const { return 0.0; }
+
+  /** \brief Factor on the variance of the terms that are scaled (effects that multiply the
+    * disparity SD: radial, incidence angle, interference). 1 for additive terms.
+    */
+  virtual double
+  varianceFactor (const PixelContext &) const { return 1.0; }
+
+  /** \brief Whether variance() is multiplied by the other terms' factors (true for noise of the
+    * correlation itself; false for offsets added after it, such as stripes).
+    */
+  virtual bool
+  scaledByFactors () const { return true; }
+
+  /** \brief Variance shared by all pixels of a column within one frame (vertical stripes), mm^2. */
+  virtual double
+  columnVariance (const PixelContext &) const { return 0.0; }
+
+  /** \brief The part of columnVariance () shared by every pixel of a frame, mm^2. */
+  virtual double
+  frameVariance (const PixelContext &) const { return 0.0; }
+
+  /** \brief Applied last, to the bias and the independent variance of the depth before the
+    * sensor reports it (disparity quantisation). Identity by default.
+    */
+  virtual void
+  transformMoments (const PixelContext &, double & /*bias_mm*/, double & /*variance_mm2*/) const {}
 
   virtual std::vector<std::string>
   parameterNames () const = 0;
@@ -132,9 +177,21 @@ public:
   double
   sigmaMm (const PixelContext &ctx) const;
 
-  /** \brief Sum of the terms' biases in mm at \a ctx. */
+  /** \brief Sum of the terms' biases in mm at \a ctx (after transformMoments). */
   double
   biasMm (const PixelContext &ctx) const;
+
+  /** \brief Bias and variance parts at \a ctx: variance = (sum of scaled terms' variances) x
+    * (product of factors) + (unscaled terms' variances), then transformMoments of each term;
+    * sigma = sqrt(variance + column variance), never below the floor. NaN sigma for a depth that
+    * is not positive and finite.
+    */
+  NoiseMoments
+  moments (const PixelContext &ctx) const;
+
+  /** \brief Removes the term named \a name; true if there was one. */
+  bool
+  remove (const std::string &name);
 
   /** \brief Smallest sigma the model reports (default 0.1 mm): keeps every point's weight
     * finite where a fitted polynomial dips toward zero outside its range.

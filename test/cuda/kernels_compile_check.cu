@@ -4,6 +4,7 @@
  * GPU, so this is a compile check; the GPU tests of the CUDA backend run it).
  */
 #include <pcl_texlet/kernels/depth_sensor.h>
+#include <pcl_texlet/kernels/effect_terms.h>
 #include <pcl_texlet/kernels/hex_grid.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/kernels/plumb_bob.h>
@@ -59,4 +60,20 @@ simulatorKernelCompileCheck (SensorPixelMaps maps, SensorFrameSettings frame, co
                                quantiseDisparity (depthStep (1.5, 0.125, 43.5), 0.125) +
                                (incidenceTooOblique (incidence, 0.1) ? 1.0 : 0.0);
   depth[v * maps.width + u] = simulateDepthPixel (maps, frame, u, v);
+}
+
+/** The noise model's effect terms (the model lab's per-pixel math). */
+__global__ void
+effectTermsCompileCheck (const double *grid, double *out)
+{
+  const double z = 1000.0 + threadIdx.x, J = depthPerDisparityMm (z, 43.5);
+  double mean = 0, var = 0;
+  quantizedMoments (43.5e3 / z, 0.03, 0.125, mean, var);
+  int index[4];
+  double weight[4];
+  bilinearGridWeights (17, 13, 640, 480, 100.0, 200.0, index, weight);
+  out[threadIdx.x] = J * (mean + var) + radialVarianceFactor (0.3, threadIdx.x, 400.0) +
+                     incidenceVarianceFactor (0.5, 0.7) + interferenceVarianceFactor (1.0, 3.0) +
+                     driftDisparityOffset (0.2, 10.0, threadIdx.x) + lateralVariance (1.0, 1.5, 2.0) +
+                     bilinearGrid (grid, 17, 13, 640, 480, 100.0, 200.0) + weight[0] * index[0];
 }

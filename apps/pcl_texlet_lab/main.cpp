@@ -1,0 +1,152 @@
+/*
+ * pcl_texlet_lab: compare the sensor's noise model with recordings, see where it fails, learn
+ * which physical effect is missing, add it, refit, and watch the error fall.
+ *
+ *   pcl_texlet_lab [--model paper | MODEL.yaml] [--add EFFECT]... [--auto N] --report OUTDIR RECORDING...
+ *
+ * RECORDING: anything openRecording reads (recording folder, PCD folder, grabber TIFF folder,
+ * .oni). Writes OUTDIR/report.html, report.json, model.yaml and the PNG plots.
+ * Exit codes: 0 success, 2 bad input or options (one line on stderr), 1 unexpected failure.
+ */
+#include "../common/app_main.h"
+#include <pcl_texlet/lab/lab_report.h>
+#include <pcl_texlet/lab/model_lab.h>
+#include <pcl_texlet/noise_model_io.h>
+#include <pcl_texlet/noise_terms.h>
+
+#include <pcl/exceptions.h>
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+
+using pcl_texlet_app::InputError;
+using pcl_texlet_app::pclMessage;
+namespace lab = pcl::texlet::lab;
+
+namespace
+{
+
+const char *const kName = "pcl_texlet_lab";
+
+int
+run (int argc, char **argv)
+{
+  std::string model_arg = "paper", report;
+  std::vector<std::string> adds, recordings;
+  int auto_count = 0, replicates = 5, threads = 0;
+  unsigned seed = 1;
+  bool quiet = false;
+  CLI::App app ("pcl_texlet_lab: compare the noise model with recordings, rank the missing physical effects, add "
+                "them and refit");
+  app.add_option ("--model", model_arg, "starting model: 'paper' (Eq. 4) or a noise-model YAML file")
+      ->capture_default_str ();
+  std::string effects;
+  for (const auto &e : pcl::texlet::noiseEffectNames ())
+    effects += (effects.empty () ? "" : ", ") + e;
+  app.add_option ("--add", adds, "add this effect and refit (repeatable, in order): " + effects)
+      ->allow_extra_args (false);
+  app.add_option ("--auto", auto_count, "then add the N best significant candidates in turn")->capture_default_str ();
+  app.add_option ("--report", report, "output folder for report.html, report.json, model.yaml and the PNGs");
+  app.add_option ("--null-replicates", replicates, "bootstrap data sets of the significance test")
+      ->capture_default_str ();
+  app.add_option ("--seed", seed, "seed of the bootstrap")->capture_default_str ();
+  app.add_option ("-j,--threads", threads, "threads (0: all)")->capture_default_str ();
+  app.add_flag ("-q,--quiet", quiet, "no progress on stderr");
+  app.add_option ("RECORDING", recordings, "recordings: recording folders, PCD folders, grabber TIFF folders, .oni");
+  try
+  {
+    app.parse (argc, argv);
+  }
+  catch (const CLI::CallForHelp &)
+  {
+    std::cout << app.help ();
+    return 0;
+  }
+  catch (const CLI::ParseError &e)
+  {
+    throw InputError (e.what ());
+  }
+  if (report.empty ())
+    throw InputError ("--report OUTDIR is required");
+  if (recordings.empty ())
+    throw InputError ("no RECORDING given");
+  if (auto_count < 0 || auto_count > 20)
+    throw InputError ("--auto must be between 0 and 20 (got " + std::to_string (auto_count) + ")");
+  if (replicates < 2 || replicates > 100)
+    throw InputError ("--null-replicates must be between 2 and 100 (got " + std::to_string (replicates) + ")");
+  if (threads < 0 || threads > 1024)
+    throw InputError ("--threads " + std::to_string (threads) + " is not a sensible thread count");
+  for (const auto &a : adds)
+  {
+    const auto &names = pcl::texlet::noiseEffectNames ();
+    if (std::find (names.begin (), names.end (), a) == names.end ())
+      throw InputError ("--add: unknown effect '" + a + "' (known: " + effects + ")");
+  }
+
+  const auto t0 = std::chrono::steady_clock::now ();
+  auto elapsed = [&] {
+    return std::chrono::duration<double> (std::chrono::steady_clock::now () - t0).count ();
+  };
+  lab::LabSettings settings;
+  settings.null_replicates = replicates;
+  settings.seed = seed;
+  settings.threads = threads;
+  if (!quiet)
+    settings.progress = [&] (const std::string &line) {
+      std::cerr << "[" << std::fixed << std::setprecision (1) << elapsed () << " s] " << line << std::endl;
+    };
+  try
+  {
+    pcl::texlet::NoiseModel start =
+        model_arg == "paper" ? pcl::texlet::NoiseModel::paper () : pcl::texlet::loadNoiseModelYaml (model_arg);
+    for (const auto &a : adds)
+      if (start.find (a))
+        throw InputError ("--add " + a + ": the starting model already has this effect");
+    lab::ModelLab lab (settings);
+    for (const auto &path : recordings)
+    {
+      if (settings.progress)
+        settings.progress ("lab: measuring " + path);
+      lab.addRecording (lab::measureRecording (path));
+    }
+    const lab::LabSession session = lab::runLabSession (lab, start, model_arg, adds, auto_count);
+    lab::writeLabReport (lab, session, report);
+    if (!quiet)
+    {
+      std::cout << "start (" << model_arg << "): sd_rmse " << session.start_metrics.sd_rmse_mm << " mm, bias_rmse "
+                << session.start_metrics.bias_rmse_mm << " mm, nll " << session.start_metrics.nll << "\n";
+      for (std::size_t k = 0; k < session.candidates.size (); ++k)
+      {
+        const auto &c = session.candidates[k];
+        std::cout << "  candidate " << k + 1 << ": " << c.effect;
+        if (c.applicable)
+          std::cout << " gain " << c.gain << " (threshold " << c.threshold << ")"
+                    << (c.significant ? " significant" : "");
+        else
+          std::cout << " not testable (" << c.note << ")";
+        std::cout << "\n";
+      }
+      for (const auto &st : session.steps)
+        std::cout << "+ " << st.added << ": sd_rmse " << st.metrics.sd_rmse_mm << " mm, bias_rmse "
+                  << st.metrics.bias_rmse_mm << " mm, nll " << st.metrics.nll << "\n";
+      std::cout << "report: " << report << "/report.html (" << std::fixed << std::setprecision (1) << elapsed ()
+                << " s)" << std::endl;
+    }
+  }
+  catch (const pcl::PCLException &e)
+  {
+    throw InputError (pclMessage (e.what ()));
+  }
+  return 0;
+}
+
+} // namespace
+
+int
+main (int argc, char **argv)
+{
+  return pcl_texlet_app::runApp (kName, run, argc, argv);
+}

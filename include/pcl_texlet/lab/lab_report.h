@@ -1,0 +1,62 @@
+/*
+ * pcl_texlet model lab, steps 3, 5 and 6: a session from a starting model to a refitted one,
+ * and its report: report.json, report.html (self-contained, plots embedded), the PNG plots
+ * (gnuplot, pngcairo) and model.yaml.
+ */
+#pragma once
+
+#include <pcl_texlet/lab/model_lab.h>
+
+#include <string>
+#include <vector>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace lab
+{
+
+/** \brief One effect added to the model, and the metrics after it (all data, refitted). */
+struct LabStep
+{
+  std::string added;
+  LabMetrics metrics;
+  NoiseModel model;
+  bool from_auto = false;   ///< chosen by --auto (the best significant candidate)
+};
+
+/** \brief A whole lab session. */
+struct LabSession
+{
+  std::string start_name;               ///< "paper" or the YAML file
+  NoiseModel start;                     ///< the model as given
+  LabMetrics start_metrics;             ///< of the model as given, all data
+  std::vector<Candidate> candidates;    ///< ranked against the starting model
+  std::vector<LabStep> steps;           ///< effects added, in order
+  NoiseModel final_model;               ///< the last step's model, or the start refitted
+  std::vector<std::string> notes;       ///< what the lab could not do, and why
+};
+
+/** \brief Runs a session: rank the candidates of \a start, add \a add in order, then up to
+  * \a auto_count best significant candidates in turn (re-ranking after each).
+  * \throws pcl::BadArgumentException for an unknown effect, or one already in the model.
+  */
+LabSession
+runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &start_name,
+               const std::vector<std::string> &add, int auto_count);
+
+/** \brief report.json text (keys: model, metrics, candidates, steps). */
+std::string
+labReportJson (const LabSession &session);
+
+/** \brief Writes report.json, report.html, the PNGs and model.yaml into \a folder (created if
+  * missing; each file through a temporary file renamed when complete).
+  * \throws pcl::IOException if the folder cannot be written or gnuplot fails.
+  */
+void
+writeLabReport (const ModelLab &lab, const LabSession &session, const std::string &folder);
+
+} // namespace lab
+} // namespace texlet
+} // namespace pcl

@@ -1,0 +1,169 @@
+/*
+ * pcl_texlet model lab, steps 2, 4 and 5: compare a NoiseModel with measured recordings, rank
+ * the effects it lacks by the held-out fall of the error they bring, add them and refit.
+ *
+ * The data are split into two halves (even and odd frames; for recordings of fewer than four
+ * frames, a checkerboard of 32 px blocks). A model is fitted on the first half and scored on the
+ * second. The score is the Gaussian negative log-likelihood per depth sample, decomposed into
+ * parts the effects show in:
+ *   - within: each sample's deviation from its pixel's mean, its frame's mean and its column's
+ *     mean in that frame, against the model's independent variance;
+ *   - static: each pixel's mean minus the surface and the model's bias, against variance / n;
+ *   - column: the mean offset of each column in each frame (disparity), against the model's
+ *     column-shared variance plus the noise of a mean;
+ *   - frame: the mean offset of each frame (disparity), against the model's frame-dependent bias.
+ * For independent noise with no bias this is the plain per-sample NLL; the other parts let
+ * stripes and drift, which add the same per-pixel variance as axial noise, be told apart.
+ *
+ * Fits: the surface planes and a depth_distortion grid are linear (Eigen least squares); the
+ * other parameters are fitted by Ceres (L-BFGS on the NLL, central differences) on covariate
+ * bins (recording, radius, depth, incidence, edge distance and, where a model quantises,
+ * sub-step phase). Significance: a candidate's held-out gain is compared with the gains the
+ * same fit brings on data drawn from the current model (parametric bootstrap): significant
+ * when it exceeds their mean by more than 4 of their SDs.
+ */
+#pragma once
+
+#include <pcl_texlet/lab/recording_measurement.h>
+#include <pcl_texlet/noise_model.h>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace lab
+{
+
+/** \brief Which samples a computation uses. */
+enum class Half
+{
+  all,    ///< every frame and pixel
+  fit,    ///< even frames (or even 32 px blocks for recordings of fewer than 4 frames)
+  score   ///< odd frames (or odd blocks)
+};
+
+/** \brief How well a model describes the samples of one half. */
+struct LabMetrics
+{
+  double sd_rmse_mm = 0;    ///< RMS over pixels of predicted minus measured temporal SD
+  double bias_rmse_mm = 0;  ///< RMS over pixels of measured minus predicted bias (mean - surface)
+  double nll = 0;           ///< Gaussian NLL per depth sample (see the file comment)
+  double within_1sigma = 0; ///< share of samples within 1 sigma of the model's mean
+  double within_2sigma = 0; ///< share of samples within 2 sigma
+  double pixels = 0;        ///< pixels compared
+  double samples = 0;       ///< depth samples compared
+};
+
+/** \brief One effect tried on top of the current model. */
+struct Candidate
+{
+  std::string effect;       ///< DESIGN.md section 5 name
+  std::string physics;      ///< one line
+  std::string signature;    ///< the covariate where it shows
+  LabMetrics metrics;       ///< held-out metrics (score half) after adding it
+  double gain = 0;          ///< held-out fall of the NLL per sample against the current model refitted
+  double null_mean = 0;     ///< mean gain of the same fit on data drawn from the current model
+  double null_sd = 0;       ///< SD of those gains
+  double threshold = 0;     ///< gain needed to be significant
+  bool significant = false; ///< gain > threshold
+  bool applicable = true;   ///< false when the data cannot show it (reason in note)
+  std::string note;         ///< why not applicable, or remarks
+  NoiseModel model;         ///< the model with it, fitted on the fit half
+};
+
+/** \brief Options of the lab. */
+struct LabSettings
+{
+  int null_replicates = 5;       ///< bootstrap data sets for the significance test
+  double null_sigmas = 4.0;      ///< significance: gain > null mean + null_sigmas * null SD
+  int outer_iterations = 3;      ///< alternations of the linear (bias) and Ceres (variance) fits
+  int max_lbfgs_iterations = 60; ///< per Ceres run
+  unsigned seed = 1;             ///< bootstrap seed
+  int threads = 0;               ///< OpenMP threads (0: default)
+  std::function<void (const std::string &)> progress; ///< progress lines, or empty
+};
+
+/** \brief The lab: recordings, a model to compare, candidates to add. */
+class ModelLab
+{
+public:
+  explicit ModelLab (const LabSettings &settings = LabSettings ());
+  ~ModelLab ();
+  ModelLab (const ModelLab &) = delete;
+  ModelLab &
+  operator= (const ModelLab &) = delete;
+
+  /** \brief Adds a measured recording. \throws pcl::BadArgumentException for null. */
+  void
+  addRecording (const RecordingMeasurement::ConstPtr &recording);
+
+  const std::vector<RecordingMeasurement::ConstPtr> &
+  recordings () const { return recordings_; }
+
+  /** \brief Whether the halves are frame halves (true) or pixel blocks (recordings < 4 frames). */
+  bool
+  splitsFrames () const;
+
+  /** \brief Per-pixel metrics of \a model on \a half (the surfaces are refitted to the model's
+    * bias; the model's parameters are not).
+    * \throws pcl::BadArgumentException when no recording was added.
+    */
+  LabMetrics
+  evaluate (const NoiseModel &model, Half half = Half::all) const;
+
+  /** \brief \a model with every parameter refitted on \a half. */
+  NoiseModel
+  fit (const NoiseModel &model, Half half = Half::all) const;
+
+  /** \brief Every effect of noiseEffectNames () not in \a current, fitted with it on the fit
+    * half and scored on the score half, best (largest gain) first.
+    */
+  std::vector<Candidate>
+  rankCandidates (const NoiseModel &current) const;
+
+  /** \brief \a current with effect \a effect added and every parameter refitted on all data.
+    * \throws pcl::BadArgumentException for an unknown effect or one already in the model.
+    */
+  NoiseModel
+  addEffect (const NoiseModel &current, const std::string &effect) const;
+
+  /** \brief The context of pixel \a i of recording \a r (covariates from the measurement). */
+  PixelContext
+  context (std::size_t r, std::size_t i) const;
+
+  /** \brief Per-pixel predicted temporal SD and mean depth (surface refitted to the model's
+    * bias, plus the bias) of \a model for recording \a r over all frames, for maps and curves.
+    * NaN where the pixel is not used.
+    */
+  void
+  predict (const NoiseModel &model, std::size_t r, std::vector<float> &sd_mm, std::vector<float> &mean_mm) const;
+
+  /** \brief Predicted frame-dependent bias (mm, relative to the steady state) of \a model at the
+    * central pixel of recording \a r for each of its frames, and the measured mean offset of
+    * each frame (mm at that pixel's depth): the drift curve.
+    */
+  void
+  frameCurve (const NoiseModel &model, std::size_t r, std::vector<double> &predicted_mm, std::vector<double> &measured_mm) const;
+
+  const LabSettings &
+  settings () const { return settings_; }
+
+  struct Data; ///< aggregates of one half (internal)
+
+private:
+  const Data &
+  data (Half half) const;
+
+  LabSettings settings_;
+  std::vector<RecordingMeasurement::ConstPtr> recordings_;
+  mutable std::unique_ptr<Data> data_[3];
+};
+
+} // namespace lab
+} // namespace texlet
+} // namespace pcl

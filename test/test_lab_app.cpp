@@ -1,0 +1,202 @@
+/*
+ * pcl_texlet_lab, the app: a session on simulated recordings written by pcl_texlet_sim, the
+ * report's files and keys, the model it writes loaded by pcl_texlet_extract, the real Kinect
+ * frames, and bad input (exit 2, one line on stderr).
+ */
+#include <pcl_texlet/noise_model_io.h>
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace
+{
+
+std::string
+slurp (const fs::path &p)
+{
+  std::ifstream in (p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf ();
+  return s.str ();
+}
+
+struct Result
+{
+  int code;
+  std::string out, err;
+};
+
+const fs::path &
+workDir ()
+{
+  static const fs::path dir = fs::temp_directory_path () / ("pcl_texlet_lab_app_" + std::to_string (::getpid ()));
+  return dir;
+}
+
+Result
+run (const std::string &cmdline)
+{
+  const fs::path out = workDir () / "stdout", err = workDir () / "stderr";
+  const std::string cmd = cmdline + " > " + out.string () + " 2> " + err.string ();
+  const int status = std::system (cmd.c_str ());
+  return {WIFEXITED (status) ? WEXITSTATUS (status) : -1, slurp (out), slurp (err)};
+}
+
+class LabApp : public ::testing::Test
+{
+protected:
+  /** Three small wall recordings with 1, 2 and 3 active projectors (interference on). */
+  static void
+  SetUpTestSuite ()
+  {
+    fs::remove_all (workDir ());
+    fs::create_directories (workDir ());
+    const double distances[3] = {1.0, 1.6, 2.2};
+    for (int k = 0; k < 3; ++k)
+    {
+      std::ostringstream cmd;
+      cmd << SIM_APP << " --width 160 --height 120 --frames 12 --distance " << distances[k] << " --tilt-y " << 10 * k
+          << " --projectors " << k + 1 << " --effect interference --seed " << 7 + k << " -q "
+          << (workDir () / ("wall_" + std::to_string (k))).string ();
+      const Result r = run (cmd.str ());
+      ASSERT_EQ (r.code, 0) << r.err;
+    }
+  }
+  static void
+  TearDownTestSuite ()
+  {
+    fs::remove_all (workDir ());
+  }
+
+  static std::string
+  walls ()
+  {
+    std::string s;
+    for (int k = 0; k < 3; ++k)
+      s += " " + (workDir () / ("wall_" + std::to_string (k))).string ();
+    return s;
+  }
+
+  /** Bad input: exit 2 and exactly one line on stderr containing \a needle. */
+  static void
+  expectInputError (const std::string &args, const std::string &needle)
+  {
+    const Result r = run (std::string (LAB_APP) + " -q " + args);
+    EXPECT_EQ (r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ (std::count (r.err.begin (), r.err.end (), '\n'), 1) << r.err;
+    EXPECT_NE (r.err.find (needle), std::string::npos) << args << "\n" << r.err;
+  }
+};
+
+} // namespace
+
+TEST_F (LabApp, SessionWritesTheReportAndAModelTheExtractorLoads)
+{
+  const fs::path report = workDir () / "report";
+  const Result r = run (std::string (LAB_APP) + " -q --null-replicates 3 --auto 1 --report " + report.string () + walls ());
+  ASSERT_EQ (r.code, 0) << r.err;
+
+  const nlohmann::json j = nlohmann::json::parse (slurp (report / "report.json"));
+  std::set<std::string> keys;
+  for (const auto &kv : j.items ())
+    keys.insert (kv.key ());
+  EXPECT_EQ (keys, (std::set<std::string>{"model", "metrics", "candidates", "steps"}));
+  for (const char *m : {"sd_rmse_mm", "bias_rmse_mm", "nll"})
+    EXPECT_TRUE (j["metrics"][m].is_number ()) << m;
+  EXPECT_EQ (j["model"]["terms"][0]["name"], "polynomial");
+  ASSERT_EQ (j["candidates"].size (), 9u); // every vocabulary effect but the model's own
+  double previous = 1e300;
+  bool testable = true;
+  for (const auto &c : j["candidates"])
+  {
+    EXPECT_TRUE (c["effect"].is_string ());
+    EXPECT_TRUE (c["significant"].is_boolean ());
+    EXPECT_TRUE (c["metrics"]["nll"].is_number ());
+    // Best first: testable candidates by falling gain, then the untestable ones.
+    if (!c["applicable"].get<bool> ())
+      testable = false;
+    else
+    {
+      EXPECT_TRUE (testable) << "a testable candidate after an untestable one";
+      EXPECT_LE (c["gain"].get<double> (), previous);
+      previous = c["gain"].get<double> ();
+    }
+  }
+  // --auto 1 adds the best significant candidate; the model is then better on every count.
+  const auto &best = j["candidates"][0];
+  ASSERT_TRUE (best["significant"].get<bool> ()) << "interference should be significant";
+  ASSERT_EQ (j["steps"].size (), 1u);
+  EXPECT_EQ (j["steps"][0]["added"], best["effect"]);
+  EXPECT_LT (j["steps"][0]["metrics"]["nll"].get<double> (), j["metrics"]["nll"].get<double> ());
+
+  // The model file holds the added effect and loads.
+  const pcl::texlet::NoiseModel model = pcl::texlet::loadNoiseModelYaml ((report / "model.yaml").string ());
+  EXPECT_TRUE (model.find (best["effect"].get<std::string> ()));
+
+  // Plots: PNG files, embedded in the self-contained HTML.
+  for (const char *png : {"staircase.png", "sd_ratio_map_start.png", "bias_map_start.png", "sd_ratio_vs_covariates.png",
+                          "bias_vs_covariates.png", "sd_ratio_map_final.png"})
+  {
+    const std::string bytes = slurp (report / png);
+    ASSERT_GT (bytes.size (), 1000u) << png;
+    EXPECT_EQ (bytes.substr (1, 3), "PNG") << png;
+  }
+  const std::string html = slurp (report / "report.html");
+  std::size_t images = 0;
+  for (std::size_t p = html.find ("data:image/png;base64,"); p != std::string::npos;
+       p = html.find ("data:image/png;base64,", p + 1))
+    ++images;
+  EXPECT_GE (images, 7u);
+  EXPECT_EQ (html.find ("src=\"staircase.png\""), std::string::npos); // nothing referenced from outside
+
+  // pcl_texlet_extract takes the lab's model.
+  const Result e = run (std::string (EXTRACT_APP) + " -q --noise-model " + (report / "model.yaml").string () + " " +
+                        (workDir () / "wall_0").string () + " " + (workDir () / "texlets").string ());
+  EXPECT_EQ (e.code, 0) << e.err;
+  EXPECT_TRUE (fs::exists (workDir () / "texlets" / "000000.pcd"));
+}
+
+TEST_F (LabApp, RealKinectFramesAreCompared)
+{
+  // Three frames of a table-top scene: no plane, too few frames to split in time.
+  const fs::path report = workDir () / "real";
+  const Result r = run (std::string (LAB_APP) + " -q --null-replicates 3 --report " + report.string () + " " +
+                        DATA_DIR + "/kinect/grabber_sequence");
+  ASSERT_EQ (r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse (slurp (report / "report.json"));
+  EXPECT_GT (j["metrics"]["sd_rmse_mm"].get<double> (), 0.0);
+  EXPECT_TRUE (j["steps"].empty ());
+  for (const auto &c : j["candidates"])
+    if (c["effect"] == "temporal_drift" || c["effect"] == "vertical_stripes" || c["effect"] == "depth_distortion" ||
+        c["effect"] == "interference")
+      EXPECT_FALSE (c["applicable"].get<bool> ()) << c["effect"];
+  EXPECT_NE (slurp (report / "report.html").find ("checkerboard of 32 px blocks"), std::string::npos);
+}
+
+TEST_F (LabApp, BadInputExitsWithOneLine)
+{
+  const std::string out = " --report " + (workDir () / "bad").string ();
+  expectInputError (walls (), "--report OUTDIR is required");
+  expectInputError (out, "no RECORDING given");
+  expectInputError (out + " --add wobble" + walls (), "unknown effect 'wobble'");
+  expectInputError (out + " " + (workDir () / "missing").string (), "missing");
+  expectInputError (out + " --model " + (workDir () / "none.yaml").string () + walls (), "none.yaml");
+  expectInputError (out + " --auto -1" + walls (), "--auto");
+  {
+    std::ofstream bad (workDir () / "bad.yaml");
+    bad << "terms:\n  - name: radial\n    parameters: {}\n";
+  }
+  expectInputError (out + " --model " + (workDir () / "bad.yaml").string () + walls (), "parameter 'gain' is missing");
+  expectInputError (out + " --model " + (workDir () / "bad.yaml").string () + walls (), "bad.yaml");
+}
