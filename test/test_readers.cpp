@@ -30,6 +30,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -677,9 +678,23 @@ TEST_F (ReadersTest, RecordingOfTheDummyDeviceIsRejectedUpFront)
   // and counts its frames, but the Dummy stream has no cropping property, so the Recorder writes
   // none and OpenNI2's OniFile driver drops every frame on playback. The reader says so at once
   // instead of timing out.
+  // libOpenNI2 2.2 itself sometimes deadlocks while recording the Dummy device (its Recorder and
+  // the Dummy driver's frame thread take two mutexes in opposite orders): each try is bounded by
+  // `timeout`, and only when every try hangs is the test skipped, saying so.
   const std::string oni = file ("dummy.oni");
-  const std::string command = std::string (RECORD_ONI) + " Dummy " + oni + " 10 > " + file ("record.log") + " 2>&1";
-  ASSERT_EQ (std::system (command.c_str ()), 0) << command;
+  const std::string command =
+      "timeout -s KILL 30 " + std::string (RECORD_ONI) + " Dummy " + oni + " 10 > " + file ("record.log") + " 2>&1";
+  int status = -1;
+  for (int attempt = 0; attempt < 3; ++attempt)
+  {
+    fs::remove (oni);
+    status = std::system (command.c_str ());
+    if (!(WIFEXITED (status) && WEXITSTATUS (status) == 128 + 9)) // 137: killed by the timeout
+      break;
+  }
+  if (WIFEXITED (status) && WEXITSTATUS (status) == 128 + 9)
+    GTEST_SKIP () << "libOpenNI2 deadlocked recording its Dummy device in 3 tries of 30 s: " << command;
+  ASSERT_EQ (status, 0) << command;
   expectError ([&] { OniReader (oni, 1.0); }, {oni, "without the cropping property"});
 }
 #endif
