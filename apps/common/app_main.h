@@ -1,9 +1,14 @@
 /*
  * pcl_texlet apps: the one error convention every command-line tool keeps.
  *
- * Bad input or options exit with code 2 and one line on stderr; anything unexpected exits 1.
+ * Bad input or options (InputError, or the library's pcl::PCLException) exit with code 2 and
+ * one line on stderr; anything unexpected exits 1.
  */
 #pragma once
+
+#include <CLI/CLI.hpp>
+#include <pcl/console/print.h>
+#include <pcl/exceptions.h>
 
 #include <iostream>
 #include <stdexcept>
@@ -25,6 +30,32 @@ pclMessage (const std::string &what)
   return what.rfind (": ", 0) == 0 ? what.substr (2) : what;
 }
 
+/** \brief Parses the command line into \a app's options.
+  * \return false when --help was asked for: the help (and \a help_extra) is printed, and the
+  *         app should exit 0.
+  * \throws InputError for a bad option or argument.
+  * Also quiets PCL's console: errors come from the app, on one line.
+  */
+inline bool
+parseCommandLine (CLI::App &app, int argc, char **argv, const std::string &help_extra = "")
+{
+  try
+  {
+    app.parse (argc, argv);
+  }
+  catch (const CLI::CallForHelp &)
+  {
+    std::cout << app.help () << help_extra;
+    return false;
+  }
+  catch (const CLI::ParseError &e)
+  {
+    throw InputError (e.what ());
+  }
+  pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS);
+  return true;
+}
+
 /** \brief Runs \a run (argc, argv) and turns its exceptions into the exit codes above. */
 template <typename Run> int
 runApp (const char *name, Run &&run, int argc, char **argv)
@@ -36,6 +67,11 @@ runApp (const char *name, Run &&run, int argc, char **argv)
   catch (const InputError &e)
   {
     std::cerr << name << ": error: " << e.what () << std::endl;
+    return 2;
+  }
+  catch (const pcl::PCLException &e) // the library's exceptions name the input and the problem
+  {
+    std::cerr << name << ": error: " << pclMessage (e.what ()) << std::endl;
     return 2;
   }
   catch (const std::exception &e)

@@ -741,20 +741,9 @@ run (int argc, char **argv)
   app.add_option ("--json", o.json_path, "write every figure measured to this JSON file");
   app.add_option ("--data-dir", o.data_dir, "write gnuplot data files (timing, fig8, scaling) into this folder");
   app.add_flag ("-q,--quiet", o.quiet, "no progress lines");
-  try
-  {
-    app.parse (argc, argv);
-  }
-  catch (const CLI::CallForHelp &)
-  {
-    std::cout << app.help ();
+  if (!pcl_texlet_app::parseCommandLine (app, argc, argv))
     return 0;
-  }
-  catch (const CLI::ParseError &e)
-  {
-    throw InputError (e.what ());
-  }
-  pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS);
+
 
   if (o.repetitions < 1 || o.warmup < 0 || o.table1_reps < 1 || o.scaling_reps < 1 || o.fig8_runs < 1)
     throw InputError ("repetitions and runs must be at least 1 (warm-up at least 0)");

@@ -273,21 +273,9 @@ run (int argc, char **argv)
   app.add_option ("-j,--threads", o.threads, "threads (0: all)")->capture_default_str ();
   app.add_flag ("--ascii", o.ascii, "write ASCII PCD (9 significant digits: exact) instead of binary");
   app.add_flag ("-q,--quiet", o.quiet, "no progress lines");
-  try
-  {
-    app.parse (argc, argv);
-  }
-  catch (const CLI::CallForHelp &)
-  {
-    std::cout << app.help ();
+  if (!pcl_texlet_app::parseCommandLine (app, argc, argv))
     return 0;
-  }
-  catch (const CLI::ParseError &e)
-  {
-    throw InputError (e.what ());
-  }
 
-  pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS); // errors come from us, on one line
   try
   {
     o.params.fit = pcl::texlet::planeFitMethodFromString (o.fit);

@@ -218,20 +218,9 @@ run (int argc, char **argv)
   app.add_option ("-j,--threads", o.threads, "threads (0: all)")->capture_default_str ();
   app.add_flag ("--no-plots", o.no_plots, "no PNG images (and no images in report.html)");
   app.add_flag ("-q,--quiet", o.quiet, "no progress on stdout");
-  try
-  {
-    app.parse (argc, argv);
-  }
-  catch (const CLI::CallForHelp &)
-  {
-    std::cout << app.help ();
+  if (!pcl_texlet_app::parseCommandLine (app, argc, argv))
     return 0;
-  }
-  catch (const CLI::ParseError &e)
-  {
-    throw InputError (e.what ());
-  }
-  pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS);
+
   for (const auto &set : o.recording_sets)
   {
     std::vector<std::string> folders;

@@ -56,19 +56,8 @@ run (int argc, char **argv)
   app.add_option ("-j,--threads", threads, "threads (0: all)")->capture_default_str ();
   app.add_flag ("-q,--quiet", quiet, "no progress on stderr");
   app.add_option ("RECORDING", recordings, "recordings: recording folders, PCD folders, grabber TIFF folders, .oni");
-  try
-  {
-    app.parse (argc, argv);
-  }
-  catch (const CLI::CallForHelp &)
-  {
-    std::cout << app.help ();
+  if (!pcl_texlet_app::parseCommandLine (app, argc, argv))
     return 0;
-  }
-  catch (const CLI::ParseError &e)
-  {
-    throw InputError (e.what ());
-  }
   if (report.empty ())
     throw InputError ("--report OUTDIR is required");
   if (recordings.empty ())

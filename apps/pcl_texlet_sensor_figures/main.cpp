@@ -1174,20 +1174,9 @@ run (int argc, char **argv)
   app.add_option ("--only", o.only, "make only these figures (repeatable): " + names)->allow_extra_args (false);
   app.add_option ("-j,--threads", o.threads, "threads (0: all)")->capture_default_str ();
   app.add_flag ("-q,--quiet", o.quiet, "no progress on stdout");
-  try
-  {
-    app.parse (argc, argv);
-  }
-  catch (const CLI::CallForHelp &)
-  {
-    std::cout << app.help ();
+  if (!pcl_texlet_app::parseCommandLine (app, argc, argv))
     return 0;
-  }
-  catch (const CLI::ParseError &e)
-  {
-    throw InputError (e.what ());
-  }
-  pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS);
+
   if (o.output.empty ())
     throw InputError ("OUTPUT is required (the folder for the data files)");
   if (o.width < 32 || o.height < 24 || o.width > 4096 || o.height > 4096)

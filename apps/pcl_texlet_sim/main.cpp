@@ -243,26 +243,14 @@ run (int argc, char **argv)
   app.add_option ("-j,--threads", o.threads, "threads (0: all)")->capture_default_str ();
   app.add_flag ("--list-effects", o.list_effects, "list the effects and their parameters, then exit");
   app.add_flag ("-q,--quiet", o.quiet, "no summary on stdout");
-  try
-  {
-    app.parse (argc, argv);
-  }
-  catch (const CLI::CallForHelp &)
-  {
-    std::cout << app.help ();
+  if (!pcl_texlet_app::parseCommandLine (app, argc, argv))
     return 0;
-  }
-  catch (const CLI::ParseError &e)
-  {
-    throw InputError (e.what ());
-  }
   if (o.list_effects)
   {
     printEffects ();
     return 0;
   }
 
-  pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS); // errors come from us, on one line
   if (o.output.empty ())
     throw InputError ("OUTPUT is required (the recording folder to create)");
   if (o.frames == 0 || o.frames > 1000000)

@@ -391,22 +391,9 @@ run (int argc, char **argv)
   app.add_option ("--sigma-scale", scales.sigma_p, "length of the Sigma_P axes in SDs")->capture_default_str ();
   app.add_flag ("--gpu", gpu, "start on the CUDA backend (key g switches)");
   app.add_option ("--size", width, "window width, pixels (height = 3/4 of it)")->capture_default_str ();
-  try
-  {
-    app.parse (argc, argv);
-  }
-  catch (const CLI::CallForHelp &)
-  {
-    std::cout << app.help () << "\n" << kHelp;
+  if (!pcl_texlet_app::parseCommandLine (app, argc, argv, std::string ("\n") + kHelp))
     return 0;
-  }
-  catch (const CLI::ParseError &e)
-  {
-    throw InputError (e.what ());
-  }
   height = width * 3 / 4;
-
-  pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS);
   try
   {
     params.fit = pcl::texlet::planeFitMethodFromString (fit);
