@@ -53,6 +53,10 @@ metricsJson (const LabMetrics &m)
     j["texlet_nees_n_ratio"] = t.ratioN ();
     j["texlet_nees_p_normal"] = t.nees_p_normal;
     j["texlet_nees_p_normal_ratio"] = t.ratioPNormal ();
+    j["texlet_nees_p_median"] = t.median_p;
+    j["texlet_nees_p_median_ratio"] = t.medianRatioP ();
+    j["texlet_nees_n_median"] = t.median_n;
+    j["texlet_nees_n_median_ratio"] = t.medianRatioN ();
     j["texlets"] = t.texlets;
     j["texlet_samples"] = t.samples;
   }
@@ -617,8 +621,9 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     h << "<tr><td>" << escape (what) << "</td><td>" << fmt (m.sd_rmse_mm) << "</td><td>" << fmt (m.bias_rmse_mm)
       << "</td><td>" << fmt (m.nll) << "</td><td>" << fmt (100 * m.within_1sigma, 3) << " %</td><td>"
       << fmt (100 * m.within_2sigma, 3) << " %</td><td>" << fmt (m.texlets.nees_p, 3) << " ("
-      << fmt (m.texlets.ratioP (), 3) << " x)</td><td>" << fmt (m.texlets.nees_n, 3) << " ("
-      << fmt (m.texlets.ratioN (), 3) << " x)</td><td>" << m.texlets.texlets << "</td></tr>\n";
+      << fmt (m.texlets.ratioP (), 3) << " x; median " << fmt (m.texlets.medianRatioP (), 3) << " x)</td><td>"
+      << fmt (m.texlets.nees_n, 3) << " (" << fmt (m.texlets.ratioN (), 3) << " x; median "
+      << fmt (m.texlets.medianRatioN (), 3) << " x)</td><td>" << m.texlets.texlets << "</td></tr>\n";
   };
   auto image = [&] (const std::string &name, const std::string &caption) {
     h << "<figure><img src=\"data:image/png;base64," << base64 (readFile (folder + "/" + name)) << "\" alt=\"" << name
@@ -644,7 +649,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
        "against its own Sigma_P and of N (its deviation from the mean normal in the texlet's tangent frame) "
        "against Sigma_N. Ideal: 3 (n - 1) / n for P and 2 (n - 1) / n for N with n frames (the mean is "
        "estimated); in brackets the ratio to the ideal (1 when calibrated, above 1 when the texlets are "
-       "over-confident).</p>\n<table><tr><th>model</th><th>sd_rmse_mm</th>"
+       "over-confident) and that of the median NEES to its ideal (robust to a few texlets that jump).</p>\n<table><tr><th>model</th><th>sd_rmse_mm</th>"
        "<th>bias_rmse_mm</th><th>nll</th><th>within 1 sigma</th><th>within 2 sigma</th><th>texlet NEES P</th>"
        "<th>texlet NEES N</th><th>texlets</th></tr>\n";
   metricsRow ("start: " + s.start_name, s.start_metrics);

@@ -59,6 +59,7 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
 
   double sum_p = 0, sum_n = 0, sum_pn = 0, ideal_sum = 0; // ideal_sum: sum over centres of (n - 1)
   TexletConsistency out;
+  std::vector<double> all_p, all_n, shrink; // per pair: NEES of P, of N, and (n - 1) / n
   pcl::TexletEstimation<pcl::PointXYZ, pcl::Texlet> estimation;
   estimation.setNoiseModel (model);
   estimation.setUncertaintyMethod (settings.uncertainty);
@@ -127,6 +128,7 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
       mean_n.normalize ();
       double centre_p = 0, centre_n = 0, centre_pn = 0;
       bool ok = true;
+      const std::size_t first = all_p.size ();
       for (const auto &c : texlets)
         if (k < c.size () && validTexlet (c[k]))
         {
@@ -142,12 +144,20 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
             break;
           }
           centre_p += ep;
+          all_p.push_back (ep);
+          all_n.push_back (en);
+          shrink.push_back ((n - 1.0) / n);
           const double var_normal = mean_n.dot (tx.covarianceP ().cast<double> () * mean_n);
           centre_pn += mean_n.dot (dp) * mean_n.dot (dp) / var_normal;
           centre_n += en;
         }
       if (!ok)
+      {
+        all_p.resize (first);
+        all_n.resize (first);
+        shrink.resize (first);
         continue;
+      }
       sum_p += centre_p;
       sum_n += centre_n;
       sum_pn += centre_pn;
@@ -164,6 +174,16 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
     out.ideal_n = 2.0 * ideal_sum / out.samples;
     out.nees_p_normal = sum_pn / out.samples;
     out.ideal_p_normal = ideal_sum / out.samples;
+    auto median = [] (std::vector<double> v) {
+      const auto mid = v.begin () + static_cast<std::ptrdiff_t> (v.size () / 2);
+      std::nth_element (v.begin (), mid, v.end ());
+      return *mid;
+    };
+    out.median_p = median (all_p);
+    out.median_n = median (all_n);
+    const double m = median (shrink);
+    out.ideal_median_p = 2.365974 * m; // median of chi-square, 3 dof
+    out.ideal_median_n = 1.386294 * m; // 2 ln 2, the median of chi-square, 2 dof
   }
   return out;
 }

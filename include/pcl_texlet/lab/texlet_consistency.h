@@ -57,12 +57,22 @@ struct TexletConsistency
   double ideal_p_normal = std::numeric_limits<double>::quiet_NaN (); ///< sum(n-1) / sum(n)
   double ideal_p = std::numeric_limits<double>::quiet_NaN (); ///< its expectation when calibrated: 3 sum(n-1) / sum(n)
   double ideal_n = std::numeric_limits<double>::quiet_NaN (); ///< 2 sum(n-1) / sum(n)
+  /** \brief Medians over the pairs, robust to a few texlets that jump (edges in real scenes).
+    * Each pair's NEES is (n - 1) / n times a chi-square variable (3 or 2 dof) when calibrated, so
+    * the ideal median is the median of (n - 1) / n over the pairs times 2.366 (P) or 1.386 (N).
+    */
+  double median_p = std::numeric_limits<double>::quiet_NaN ();
+  double median_n = std::numeric_limits<double>::quiet_NaN ();
+  double ideal_median_p = std::numeric_limits<double>::quiet_NaN ();
+  double ideal_median_n = std::numeric_limits<double>::quiet_NaN ();
   double texlets = 0;    ///< centres used (valid in at least min_frames frames)
   double samples = 0;    ///< (centre, frame) pairs used
   double frames = 0;     ///< frames used over all recordings
 
   double ratioP () const { return nees_p / ideal_p; } ///< 1 when calibrated
   double ratioN () const { return nees_n / ideal_n; } ///< 1 when calibrated
+  double medianRatioP () const { return median_p / ideal_median_p; } ///< 1 when calibrated
+  double medianRatioN () const { return median_n / ideal_median_n; } ///< 1 when calibrated
   double ratioPNormal () const { return nees_p_normal / ideal_p_normal; } ///< 1 when calibrated
 };
 
