@@ -139,6 +139,12 @@ TEST_F (LabApp, SessionWritesTheReportAndAModelTheExtractorLoads)
   ASSERT_EQ (j["steps"].size (), 1u);
   EXPECT_EQ (j["steps"][0]["added"], best["effect"]);
   EXPECT_LT (j["steps"][0]["metrics"]["nll"].get<double> (), j["metrics"]["nll"].get<double> ());
+  // The texlet NEES (texletConsistency) for the start and each step, not for the candidates.
+  for (const auto *m : {&j["metrics"], &j["steps"][0]["metrics"]})
+    for (const char *key : {"texlet_nees_p", "texlet_nees_p_ideal", "texlet_nees_n", "texlet_nees_n_ideal", "texlets"})
+      EXPECT_TRUE ((*m)[key].is_number ()) << key;
+  EXPECT_GT (j["metrics"]["texlets"].get<double> (), 0.0);
+  EXPECT_FALSE (j["candidates"][0]["metrics"].contains ("texlet_nees_p"));
 
   // The model file holds the added effect and loads.
   const pcl::texlet::NoiseModel model = pcl::texlet::loadNoiseModelYaml ((report / "model.yaml").string ());

@@ -21,6 +21,7 @@
 #include <chrono>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 using pcl_texlet_app::InputError;
 using pcl_texlet_app::pclMessage;
@@ -30,6 +31,17 @@ namespace
 {
 
 const char *const kName = "pcl_texlet_lab";
+
+/** ", texlet NEES P x (r x ideal), N y (r x ideal)" for the text summary. */
+std::string
+texletText (const lab::LabMetrics &m)
+{
+  std::ostringstream s;
+  s << std::setprecision (4) << ", texlet NEES P " << m.texlets.nees_p << " (" << m.texlets.ratioP ()
+    << " x ideal), N " << m.texlets.nees_n << " (" << m.texlets.ratioN () << " x ideal, " << m.texlets.texlets
+    << " texlets)";
+  return s.str ();
+}
 
 int
 run (int argc, char **argv)
@@ -106,7 +118,8 @@ run (int argc, char **argv)
     if (!quiet)
     {
       std::cout << "start (" << model_arg << "): sd_rmse " << session.start_metrics.sd_rmse_mm << " mm, bias_rmse "
-                << session.start_metrics.bias_rmse_mm << " mm, nll " << session.start_metrics.nll << "\n";
+                << session.start_metrics.bias_rmse_mm << " mm, nll " << session.start_metrics.nll
+                << texletText (session.start_metrics) << "\n";
       for (std::size_t k = 0; k < session.candidates.size (); ++k)
       {
         const auto &c = session.candidates[k];
@@ -120,7 +133,7 @@ run (int argc, char **argv)
       }
       for (const auto &st : session.steps)
         std::cout << "+ " << st.added << ": sd_rmse " << st.metrics.sd_rmse_mm << " mm, bias_rmse "
-                  << st.metrics.bias_rmse_mm << " mm, nll " << st.metrics.nll << "\n";
+                  << st.metrics.bias_rmse_mm << " mm, nll " << st.metrics.nll << texletText (st.metrics) << "\n";
       std::cout << "report: " << report << "/report.html (" << std::fixed << std::setprecision (1) << elapsed ()
                 << " s)" << std::endl;
     }

@@ -38,10 +38,38 @@ say (const ModelLab &lab, const std::string &line)
 nlohmann::json
 metricsJson (const LabMetrics &m)
 {
-  return {{"sd_rmse_mm", m.sd_rmse_mm},        {"bias_rmse_mm", m.bias_rmse_mm},
-          {"nll", m.nll},                      {"within_1sigma", m.within_1sigma},
-          {"within_2sigma", m.within_2sigma},  {"pixels", m.pixels},
-          {"samples", m.samples}};
+  nlohmann::json j = {{"sd_rmse_mm", m.sd_rmse_mm},        {"bias_rmse_mm", m.bias_rmse_mm},
+                      {"nll", m.nll},                      {"within_1sigma", m.within_1sigma},
+                      {"within_2sigma", m.within_2sigma},  {"pixels", m.pixels},
+                      {"samples", m.samples}};
+  const TexletConsistency &t = m.texlets;
+  if (t.samples > 0) // computed for the starting model and the steps, not for candidates
+  {
+    j["texlet_nees_p"] = t.nees_p;
+    j["texlet_nees_p_ideal"] = t.ideal_p;
+    j["texlet_nees_p_ratio"] = t.ratioP ();
+    j["texlet_nees_n"] = t.nees_n;
+    j["texlet_nees_n_ideal"] = t.ideal_n;
+    j["texlet_nees_n_ratio"] = t.ratioN ();
+    j["texlet_nees_p_normal"] = t.nees_p_normal;
+    j["texlet_nees_p_normal_ratio"] = t.ratioPNormal ();
+    j["texlet_nees_p_median"] = t.median_p;
+    j["texlet_nees_p_median_ratio"] = t.medianRatioP ();
+    j["texlet_nees_n_median"] = t.median_n;
+    j["texlet_nees_n_median_ratio"] = t.medianRatioN ();
+    j["texlets"] = t.texlets;
+    j["texlet_samples"] = t.samples;
+  }
+  return j;
+}
+
+/** The texlet NEES of \a model on the lab's recordings (Analytic uncertainty, a frame subsample). */
+TexletConsistency
+texletMetrics (const ModelLab &lab, const NoiseModel &model)
+{
+  TexletConsistencySettings settings;
+  settings.threads = static_cast<unsigned> (std::max (0, lab.settings ().threads));
+  return texletConsistency (lab.recordings (), model, settings);
 }
 
 nlohmann::json
@@ -271,6 +299,8 @@ runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &
   s.start = start;
   say (lab, "lab: comparing the model '" + start_name + "' with the recordings");
   s.start_metrics = lab.evaluate (start);
+  say (lab, "lab: texlet NEES of P and N across frames under '" + start_name + "'");
+  s.start_metrics.texlets = texletMetrics (lab, start);
   say (lab, "lab: ranking the candidate effects (fit on even frames, score on odd frames)");
   s.candidates = lab.rankCandidates (start);
   if (!lab.splitsFrames ())
@@ -282,6 +312,7 @@ runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &
     say (lab, "lab: adding " + effect + " and refitting");
     current = lab.addEffect (current, effect);
     s.steps.push_back ({effect, lab.evaluate (current), current, false});
+    s.steps.back ().metrics.texlets = texletMetrics (lab, current);
   }
   std::vector<Candidate> ranking = s.candidates;
   for (int k = 0; k < auto_count; ++k)
@@ -306,6 +337,7 @@ runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &
     say (lab, "lab: adding " + best->effect + " (best significant candidate) and refitting");
     current = lab.addEffect (current, best->effect);
     s.steps.push_back ({best->effect, lab.evaluate (current), current, true});
+    s.steps.back ().metrics.texlets = texletMetrics (lab, current);
   }
   s.final_model = s.steps.empty () ? lab.fit (start) : s.steps.back ().model;
   return s;
@@ -588,7 +620,10 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
   auto metricsRow = [&] (const std::string &what, const LabMetrics &m) {
     h << "<tr><td>" << escape (what) << "</td><td>" << fmt (m.sd_rmse_mm) << "</td><td>" << fmt (m.bias_rmse_mm)
       << "</td><td>" << fmt (m.nll) << "</td><td>" << fmt (100 * m.within_1sigma, 3) << " %</td><td>"
-      << fmt (100 * m.within_2sigma, 3) << " %</td></tr>\n";
+      << fmt (100 * m.within_2sigma, 3) << " %</td><td>" << fmt (m.texlets.nees_p, 3) << " ("
+      << fmt (m.texlets.ratioP (), 3) << " x; median " << fmt (m.texlets.medianRatioP (), 3) << " x)</td><td>"
+      << fmt (m.texlets.nees_n, 3) << " (" << fmt (m.texlets.ratioN (), 3) << " x; median "
+      << fmt (m.texlets.medianRatioN (), 3) << " x)</td><td>" << m.texlets.texlets << "</td></tr>\n";
   };
   auto image = [&] (const std::string &name, const std::string &caption) {
     h << "<figure><img src=\"data:image/png;base64," << base64 (readFile (folder + "/" + name)) << "\" alt=\"" << name
@@ -608,8 +643,15 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
   h << "</table>\n<h2>1-2. The model against the measurements</h2>\n<p>Starting model: <b>" << escape (s.start_name)
     << "</b>. Metrics over all frames (NLL: Gaussian negative log-likelihood per depth sample, in nats, with the "
        "frame and column offsets as separate parts; calibration: share of samples within 1 and 2 predicted SDs of "
-       "the predicted mean, 68.3 % and 95.4 % when calibrated).</p>\n<table><tr><th>model</th><th>sd_rmse_mm</th>"
-       "<th>bias_rmse_mm</th><th>nll</th><th>within 1 sigma</th><th>within 2 sigma</th></tr>\n";
+       "the predicted mean, 68.3 % and 95.4 % when calibrated).</p>\n<p>Texlet NEES: texlets extracted with the "
+       "model as their noise model (Analytic uncertainty, every disc point an inlier) at the same hexagonal-grid "
+       "centres in up to 15 evenly spaced frames of each recording; per centre, the mean NEES over frames of P "
+       "against its own Sigma_P and of N (its deviation from the mean normal in the texlet's tangent frame) "
+       "against Sigma_N. Ideal: 3 (n - 1) / n for P and 2 (n - 1) / n for N with n frames (the mean is "
+       "estimated); in brackets the ratio to the ideal (1 when calibrated, above 1 when the texlets are "
+       "over-confident) and that of the median NEES to its ideal (robust to a few texlets that jump).</p>\n<table><tr><th>model</th><th>sd_rmse_mm</th>"
+       "<th>bias_rmse_mm</th><th>nll</th><th>within 1 sigma</th><th>within 2 sigma</th><th>texlet NEES P</th>"
+       "<th>texlet NEES N</th><th>texlets</th></tr>\n";
   metricsRow ("start: " + s.start_name, s.start_metrics);
   for (const auto &st : s.steps)
     metricsRow ("+ " + st.added, st.metrics);

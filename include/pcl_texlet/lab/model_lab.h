@@ -25,6 +25,7 @@
 #pragma once
 
 #include <pcl_texlet/lab/recording_measurement.h>
+#include <pcl_texlet/lab/texlet_consistency.h>
 #include <pcl_texlet/noise_model.h>
 
 #include <functional>
@@ -57,6 +58,10 @@ struct LabMetrics
   double within_2sigma = 0; ///< share of samples within 2 sigma
   double pixels = 0;        ///< pixels compared
   double samples = 0;       ///< depth samples compared
+  /** \brief Texlet NEES of P and N across frames (texletConsistency); filled by runLabSession
+    * for the starting model and each step (samples == 0: not computed, e.g. for candidates).
+    */
+  TexletConsistency texlets;
 };
 
 /** \brief One effect tried on top of the current model. */

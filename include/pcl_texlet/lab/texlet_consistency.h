@@ -1,0 +1,88 @@
+/*
+ * pcl_texlet model lab, texlet-level comparison (issue 4, "Compare"): are the texlets' own
+ * covariances, propagated from a noise model, the spread of texlet P and N across frames?
+ *
+ * Per recording, texlets are extracted (pcl::TexletEstimation with the model under test as its
+ * noise model and the recording's camera) at the same hexagonal-grid centres in each of a
+ * subsample of frames. Per centre, over the frames where its texlet is valid, the mean P and the
+ * mean N (normalised) are taken; then per frame the normalised estimation error squared (NEES)
+ *   P:  (P - mean P)^T Sigma_P^-1 (P - mean P)                       (3 degrees of freedom)
+ *   N:  d^T Sigma_N^-1 d,  d = T^T (N - mean N), T = that texlet's tangentFrame ()  (2)
+ * For a centre valid in n frames with equal covariances, the deviations from the estimated mean
+ * have covariance Sigma (n - 1) / n, so the expected NEES is 3 (n - 1) / n for P and 2 (n - 1) / n
+ * for N; the ideal of the mean over all (centre, frame) pairs is the same sum over centres
+ * divided by the pairs. A ratio above 1 means the texlets are more certain than they should be.
+ */
+#pragma once
+
+#include <pcl_texlet/lab/recording_measurement.h>
+#include <pcl_texlet/noise_model.h>
+#include <pcl_texlet/texlet_parameters.h>
+
+#include <limits>
+#include <vector>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace lab
+{
+
+/** \brief How the texlet comparison samples the recordings. */
+struct TexletConsistencySettings
+{
+  int max_frames = 15;   ///< frames per recording, evenly spaced over it (at least 3)
+  int spacing_px = 0;    ///< hexagonal grid spacing of the centres; 0: width / 32 (20 px at 640)
+  int radius_px = 6;     ///< texlet disc radius, pixels (the paper's)
+  int min_frames = 3;    ///< fewest frames in which a centre's texlet must be valid to be used
+  UncertaintyMethod uncertainty = UncertaintyMethod::Analytic; ///< how Sigma_P, Sigma_N are propagated
+  unsigned threads = 0;  ///< OpenMP threads of TexletEstimation (0: all)
+  /** \brief RANSAC inlier distance, metres; 0: TexletEstimation's automatic one (3 depth SDs).
+    * Default 1 m: every point of the disc is an inlier, so texlet k is fitted to the same pixels
+    * in every frame. With the automatic threshold a few points drop out at random in each frame
+    * and move the centroid P sideways, along directions where Sigma_P (which is conditional on
+    * the inlier set) is about 1e-4 of its axial variance: the NEES of P then measures RANSAC,
+    * not the noise model (docs/model_lab.md).
+    */
+  double ransac_threshold_m = 1.0;
+};
+
+/** \brief Mean NEES of texlet P and N across frames against their own covariances. */
+struct TexletConsistency
+{
+  double nees_p = std::numeric_limits<double>::quiet_NaN ();  ///< mean NEES of P over (centre, frame) pairs
+  double nees_n = std::numeric_limits<double>::quiet_NaN ();  ///< mean NEES of N
+  double nees_p_normal = std::numeric_limits<double>::quiet_NaN (); ///< mean NEES of P along the mean normal (1 dof)
+  double ideal_p_normal = std::numeric_limits<double>::quiet_NaN (); ///< sum(n-1) / sum(n)
+  double ideal_p = std::numeric_limits<double>::quiet_NaN (); ///< its expectation when calibrated: 3 sum(n-1) / sum(n)
+  double ideal_n = std::numeric_limits<double>::quiet_NaN (); ///< 2 sum(n-1) / sum(n)
+  /** \brief Medians over the pairs, robust to a few texlets that jump (edges in real scenes).
+    * Each pair's NEES is (n - 1) / n times a chi-square variable (3 or 2 dof) when calibrated, so
+    * the ideal median is the median of (n - 1) / n over the pairs times 2.366 (P) or 1.386 (N).
+    */
+  double median_p = std::numeric_limits<double>::quiet_NaN ();
+  double median_n = std::numeric_limits<double>::quiet_NaN ();
+  double ideal_median_p = std::numeric_limits<double>::quiet_NaN ();
+  double ideal_median_n = std::numeric_limits<double>::quiet_NaN ();
+  double texlets = 0;    ///< centres used (valid in at least min_frames frames)
+  double samples = 0;    ///< (centre, frame) pairs used
+  double frames = 0;     ///< frames used over all recordings
+
+  double ratioP () const { return nees_p / ideal_p; } ///< 1 when calibrated
+  double ratioN () const { return nees_n / ideal_n; } ///< 1 when calibrated
+  double medianRatioP () const { return median_p / ideal_median_p; } ///< 1 when calibrated
+  double medianRatioN () const { return median_n / ideal_median_n; } ///< 1 when calibrated
+  double ratioPNormal () const { return nees_p_normal / ideal_p_normal; } ///< 1 when calibrated
+};
+
+/** \brief Texlet NEES of \a model on \a recordings (see the file comment).
+  * \throws pcl::BadArgumentException for no recording, a null one or bad settings.
+  */
+TexletConsistency
+texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings, const NoiseModel &model,
+                   const TexletConsistencySettings &settings = TexletConsistencySettings ());
+
+} // namespace lab
+} // namespace texlet
+} // namespace pcl

@@ -1,0 +1,193 @@
+/*
+ * pcl_texlet model lab: texlet NEES across frames (see texlet_consistency.h).
+ */
+#include <pcl_texlet/lab/texlet_consistency.h>
+
+#include <pcl_texlet/depth_image.h>
+#include <pcl_texlet/pinhole_model.h>
+#include <pcl_texlet/texlet_estimation.h>
+
+#include <pcl/exceptions.h>
+#include <pcl/point_types.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace lab
+{
+
+namespace
+{
+
+bool
+validTexlet (const pcl::Texlet &t)
+{
+  return t.support > 0 && std::isfinite (t.x) && std::isfinite (t.normal_x) && std::isfinite (t.cov_p_zz) &&
+         std::isfinite (t.cov_n_11);
+}
+
+/** x^T C^-1 x for a symmetric positive definite C (double, LDLT); NaN when C is not. */
+template <int D> double
+mahalanobis2 (const Eigen::Matrix<double, D, D> &c, const Eigen::Matrix<double, D, 1> &x)
+{
+  const Eigen::LDLT<Eigen::Matrix<double, D, D>> ldlt (c);
+  if (ldlt.info () != Eigen::Success || !ldlt.isPositive () || (ldlt.vectorD ().array () <= 0).any ())
+    return std::numeric_limits<double>::quiet_NaN ();
+  return x.dot (ldlt.solve (x));
+}
+
+} // namespace
+
+TexletConsistency
+texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings, const NoiseModel &model,
+                   const TexletConsistencySettings &settings)
+{
+  if (recordings.empty ())
+    throw pcl::BadArgumentException ("texletConsistency: no recording given");
+  if (settings.max_frames < 3 || settings.min_frames < 2 || settings.radius_px < 1 || settings.spacing_px < 0)
+    throw pcl::BadArgumentException ("texletConsistency: max_frames must be >= 3, min_frames >= 2, radius_px >= 1 "
+                                     "and spacing_px >= 0");
+
+  double sum_p = 0, sum_n = 0, sum_pn = 0, ideal_sum = 0; // ideal_sum: sum over centres of (n - 1)
+  TexletConsistency out;
+  std::vector<double> all_p, all_n, shrink; // per pair: NEES of P, of N, and (n - 1) / n
+  pcl::TexletEstimation<pcl::PointXYZ, pcl::Texlet> estimation;
+  estimation.setNoiseModel (model);
+  estimation.setUncertaintyMethod (settings.uncertainty);
+  estimation.setRadius (settings.radius_px);
+  estimation.setNumberOfThreads (settings.threads);
+  estimation.setRansacThreshold (settings.ransac_threshold_m);
+  for (const auto &rec : recordings)
+  {
+    if (!rec)
+      throw pcl::BadArgumentException ("texletConsistency: null recording");
+    if (rec->frames < settings.min_frames)
+      continue;
+    CameraInfo info = rec->camera;
+    info.width = rec->width;
+    info.height = rec->height;
+    estimation.setCameraModel (std::make_shared<PinholeModel> (PinholeModel::fromCameraInfo (info)));
+    estimation.setSpacing (settings.spacing_px > 0 ? settings.spacing_px : std::max (2, rec->width / 32));
+
+    // Evenly spaced frames; the default hexagonal grid depends only on the image size, so
+    // texlet k is the same centre pixel in every frame.
+    const int used_frames = std::min (settings.max_frames, rec->frames);
+    std::vector<pcl::PointCloud<pcl::Texlet>> texlets (used_frames);
+    DepthFrame frame;
+    frame.width = rec->width;
+    frame.height = rec->height;
+    const std::size_t n_px = static_cast<std::size_t> (rec->width) * rec->height;
+    auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
+    for (int f = 0; f < used_frames; ++f)
+    {
+      const int t = used_frames > 1 ? static_cast<int> (std::lround (static_cast<double> (f) * (rec->frames - 1) /
+                                                                     (used_frames - 1)))
+                                    : 0;
+      frame.name = rec->name + " frame " + std::to_string (t);
+      frame.depth_mm.assign (rec->depth_mm.begin () + static_cast<std::ptrdiff_t> (t * n_px),
+                             rec->depth_mm.begin () + static_cast<std::ptrdiff_t> ((t + 1) * n_px));
+      depthToCloud (frame, *estimation.getCameraModel (), *cloud);
+      estimation.setInputCloud (cloud);
+      try
+      {
+        estimation.compute (texlets[f]);
+      }
+      catch (const pcl::ComputeFailedException &)
+      {
+        texlets[f].clear (); // a frame without a valid point: no texlet
+      }
+    }
+    out.frames += used_frames;
+
+    std::size_t centres = 0;
+    for (const auto &c : texlets)
+      centres = std::max (centres, c.size ());
+    for (std::size_t k = 0; k < centres; ++k)
+    {
+      int n = 0;
+      Eigen::Vector3d mean_p = Eigen::Vector3d::Zero (), mean_n = Eigen::Vector3d::Zero ();
+      for (const auto &c : texlets)
+        if (k < c.size () && validTexlet (c[k]))
+        {
+          mean_p += c[k].getVector3fMap ().cast<double> ();
+          mean_n += c[k].getNormalVector3fMap ().cast<double> ();
+          ++n;
+        }
+      if (n < settings.min_frames || mean_n.norm () == 0)
+        continue;
+      mean_p /= n;
+      mean_n.normalize ();
+      double centre_p = 0, centre_n = 0, centre_pn = 0;
+      bool ok = true;
+      const std::size_t first = all_p.size ();
+      for (const auto &c : texlets)
+        if (k < c.size () && validTexlet (c[k]))
+        {
+          const pcl::Texlet &tx = c[k];
+          const Eigen::Vector3d dp = tx.getVector3fMap ().cast<double> () - mean_p;
+          const Eigen::Matrix<double, 3, 2> frame_t = tx.tangentFrame ().cast<double> ();
+          const Eigen::Vector2d dn = frame_t.transpose () * (tx.getNormalVector3fMap ().cast<double> () - mean_n);
+          const double ep = mahalanobis2<3> (tx.covarianceP ().cast<double> (), dp);
+          const double en = mahalanobis2<2> (tx.covarianceN ().cast<double> (), dn);
+          if (!std::isfinite (ep) || !std::isfinite (en))
+          {
+            ok = false; // a degenerate covariance: leave the centre out rather than divide by ~0
+            break;
+          }
+          centre_p += ep;
+          all_p.push_back (ep);
+          all_n.push_back (en);
+          shrink.push_back ((n - 1.0) / n);
+          const double var_normal = mean_n.dot (tx.covarianceP ().cast<double> () * mean_n);
+          centre_pn += mean_n.dot (dp) * mean_n.dot (dp) / var_normal;
+          centre_n += en;
+        }
+      if (!ok)
+      {
+        all_p.resize (first);
+        all_n.resize (first);
+        shrink.resize (first);
+        continue;
+      }
+      sum_p += centre_p;
+      sum_n += centre_n;
+      sum_pn += centre_pn;
+      ideal_sum += n - 1;
+      out.samples += n;
+      out.texlets += 1;
+    }
+  }
+  if (out.samples > 0)
+  {
+    out.nees_p = sum_p / out.samples;
+    out.nees_n = sum_n / out.samples;
+    out.ideal_p = 3.0 * ideal_sum / out.samples;
+    out.ideal_n = 2.0 * ideal_sum / out.samples;
+    out.nees_p_normal = sum_pn / out.samples;
+    out.ideal_p_normal = ideal_sum / out.samples;
+    auto median = [] (std::vector<double> v) {
+      const auto mid = v.begin () + static_cast<std::ptrdiff_t> (v.size () / 2);
+      std::nth_element (v.begin (), mid, v.end ());
+      return *mid;
+    };
+    out.median_p = median (all_p);
+    out.median_n = median (all_n);
+    const double m = median (shrink);
+    out.ideal_median_p = 2.365974 * m; // median of chi-square, 3 dof
+    out.ideal_median_n = 1.386294 * m; // 2 ln 2, the median of chi-square, 2 dof
+  }
+  return out;
+}
+
+} // namespace lab
+} // namespace texlet
+} // namespace pcl

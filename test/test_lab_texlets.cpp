@@ -1,0 +1,140 @@
+/*
+ * The model lab at texlet level (issue 4, "Compare"): the NEES of texlet P and N across frames
+ * against the texlets' own covariances. On plane recordings with the paper's base noise only,
+ * texlets from the paper's model must be calibrated (mean NEES near its expectation); with a
+ * hidden effect that adds variance the paper's texlets must be over-confident, and adding the
+ * effect (fitted by the lab) must bring the NEES down.
+ */
+#include <pcl_texlet/lab/model_lab.h>
+#include <pcl_texlet/lab/texlet_consistency.h>
+#include <pcl_texlet/noise_terms.h>
+#include <pcl_texlet/simulator/kinect_simulator.h>
+#include <pcl_texlet/simulator/scene_setup.h>
+
+#include <gtest/gtest.h>
+
+#include <pcl/exceptions.h>
+
+#include <iostream>
+#include <sstream>
+
+using namespace pcl::texlet;
+
+namespace
+{
+
+/** Five plane recordings at 320 x 240 (0.8 to 3 m, mild tilts, 30 frames), \a effect on ("" none). */
+std::vector<lab::RecordingMeasurement::ConstPtr>
+simulatePlanes (const std::string &effect, std::uint32_t seed)
+{
+  const int W = 320, H = 240;
+  const double distances[5] = {0.8, 1.35, 1.9, 2.45, 3.0};
+  const double tilt_y[5] = {12, -18, 24, -14, 20}, tilt_x[5] = {6, -4, 8, -6, 4};
+  std::vector<lab::RecordingMeasurement::ConstPtr> out;
+  for (int k = 0; k < 5; ++k)
+  {
+    const sim::SceneSetup setup = sim::planeSetup (distances[k], tilt_x[k], tilt_y[k], 1);
+    sim::SimulationSettings settings;
+    settings.seed = seed + 101 * k;
+    if (!effect.empty ())
+      sim::setEffectEnabled (settings.effects, effect, true);
+    if (effect == "vertical_stripes")
+      settings.effects.vertical_stripes.period_frames = 2; // as in test_lab.cpp
+    sim::KinectSimulator simulator (setup.scene, setup.sensors (sim::DepthSensor::kinect (W, H)), settings);
+    const auto frames = simulator.simulate (0, 0, 30);
+    out.push_back (lab::measureFrames (frames, simulator.cameraInfo (0), "plane_" + std::to_string (k),
+                                       "scene: plane\nprojectors: 1\n"));
+  }
+  return out;
+}
+
+void
+print (const std::string &what, const lab::TexletConsistency &c)
+{
+  std::cout << what << ": nees_p " << c.nees_p << " (ideal " << c.ideal_p << ", ratio " << c.ratioP () << ") nees_n "
+            << c.nees_n << " (ideal " << c.ideal_n << ", ratio " << c.ratioN () << ") nees_p_normal " << c.nees_p_normal
+            << " (ratio " << c.ratioPNormal () << ") median ratio P " << c.medianRatioP () << " N " << c.medianRatioN () << " texlets " << c.texlets
+            << " samples " << c.samples << "\n";
+}
+
+} // namespace
+
+TEST (ModelLabTexlets, PaperModelIsCalibratedOnPaperNoise)
+{
+  const auto recs = simulatePlanes ("", 21);
+  const lab::TexletConsistency c = lab::texletConsistency (recs, NoiseModel::paper ());
+  print ("paper noise, paper model", c);
+  // 5 recordings x (320 / 10 spacing) hexagonal centres, every one valid in the 15 frames.
+  ASSERT_GT (c.texlets, 4000);
+  // 15 frames per centre: the ideal is 3 * 14 / 15 and 2 * 14 / 15 (the mean is estimated).
+  EXPECT_NEAR (c.ideal_p, 3.0 * 14 / 15, 1e-9);
+  EXPECT_NEAR (c.ideal_n, 2.0 * 14 / 15, 1e-9);
+  // Measured 1.135 (P) and 1.124 (N): the texlets are calibrated to about 13 %. The excess is
+  // what the model leaves out of the simulated sensor (whole-millimetre depth, noise drawn in
+  // disparity) and the first-order propagation; 25 % leaves room for that, not for a model off
+  // by a factor (the hidden-effect test below is off by 1.2 to 4000).
+  EXPECT_NEAR (c.ratioP (), 1.0, 0.25);
+  EXPECT_NEAR (c.ratioN (), 1.0, 0.25);
+  EXPECT_NEAR (c.ratioPNormal (), 1.0, 0.25);
+  EXPECT_NEAR (c.medianRatioP (), 1.0, 0.25); // measured 1.117
+  EXPECT_NEAR (c.medianRatioN (), 1.0, 0.25); // measured 1.109
+
+  // With TexletEstimation's automatic RANSAC threshold a few points drop out at random in each
+  // frame and move P sideways, where Sigma_P is tiny: the NEES of P is then about 28 000 times
+  // its ideal (N is hardly affected). This is why the lab keeps every disc point.
+  lab::TexletConsistencySettings ransac;
+  ransac.ransac_threshold_m = 0;
+  const lab::TexletConsistency r = lab::texletConsistency (recs, NoiseModel::paper (), ransac);
+  print ("paper noise, paper model, automatic RANSAC threshold", r);
+  EXPECT_GT (r.ratioP (), 100.0);
+  EXPECT_NEAR (r.ratioN (), 1.0, 0.4);
+}
+
+/** NEES under the paper's model and after the lab adds \a effect (fitted on the recordings). */
+void
+beforeAndAfter (const std::string &effect, std::uint32_t seed, lab::TexletConsistency &before,
+                lab::TexletConsistency &after)
+{
+  lab::ModelLab lab;
+  for (const auto &r : simulatePlanes (effect, seed))
+    lab.addRecording (r);
+  const NoiseModel paper = NoiseModel::paper ();
+  before = lab::texletConsistency (lab.recordings (), paper);
+  after = lab::texletConsistency (lab.recordings (), lab.addEffect (paper, effect));
+  print (effect + ", paper model", before);
+  print (effect + ", + " + effect, after);
+}
+
+TEST (ModelLabTexlets, StripesMakePaperTexletsOverconfidentUntilAdded)
+{
+  lab::TexletConsistency before, after;
+  beforeAndAfter ("vertical_stripes", 22, before, after);
+  // Measured: ratio 4289 (P), 754 (N) under the paper model; 151 and 34 with the stripes added.
+  // Not 1 after: a stripe offsets a whole column, shared by the ~13 columns of a texlet's
+  // disc, while the texlet propagates every pixel's variance as independent.
+  EXPECT_GT (before.ratioP (), 100.0);
+  EXPECT_GT (before.ratioN (), 100.0);
+  EXPECT_LT (after.ratioP (), before.ratioP () / 10);
+  EXPECT_LT (after.ratioN (), before.ratioN () / 10);
+}
+
+TEST (ModelLabTexlets, RadialVarianceFallsWhenAdded)
+{
+  lab::TexletConsistency before, after;
+  beforeAndAfter ("radial", 22, before, after);
+  // Measured: ratio 1.215 (P), 1.214 (N) under the paper model, 1.121 and 1.120 with radial
+  // added: back to the 1.13 of recordings without a hidden effect.
+  EXPECT_LT (after.ratioP (), before.ratioP () - 0.05);
+  EXPECT_LT (after.ratioN (), before.ratioN () - 0.05);
+  EXPECT_NEAR (after.ratioP (), 1.0, 0.25);
+  EXPECT_NEAR (after.ratioN (), 1.0, 0.25);
+}
+
+TEST (ModelLabTexlets, BadInput)
+{
+  EXPECT_THROW (lab::texletConsistency ({}, NoiseModel::paper ()), pcl::BadArgumentException);
+  lab::TexletConsistencySettings s;
+  s.max_frames = 2;
+  EXPECT_THROW (lab::texletConsistency ({nullptr}, NoiseModel::paper (), s), pcl::BadArgumentException);
+  EXPECT_THROW (lab::texletConsistency ({nullptr}, NoiseModel::paper ()), pcl::BadArgumentException);
+}
