@@ -7,8 +7,12 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+// The GPU benchmark uses this header on machines without PCL: the PCL parts are then left out.
+#if __has_include(<pcl/exceptions.h>)
 #include <pcl/console/print.h>
 #include <pcl/exceptions.h>
+#define PCL_TEXLET_APP_WITH_PCL 1
+#endif
 
 #include <iostream>
 #include <stdexcept>
@@ -52,7 +56,9 @@ parseCommandLine (CLI::App &app, int argc, char **argv, const std::string &help_
   {
     throw InputError (e.what ());
   }
+#ifdef PCL_TEXLET_APP_WITH_PCL
   pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS);
+#endif
   return true;
 }
 
@@ -69,11 +75,13 @@ runApp (const char *name, Run &&run, int argc, char **argv)
     std::cerr << name << ": error: " << e.what () << std::endl;
     return 2;
   }
+#ifdef PCL_TEXLET_APP_WITH_PCL
   catch (const pcl::PCLException &e) // the library's exceptions name the input and the problem
   {
     std::cerr << name << ": error: " << pclMessage (e.what ()) << std::endl;
     return 2;
   }
+#endif
   catch (const std::exception &e)
   {
     std::cerr << name << ": internal error: " << e.what () << std::endl;
