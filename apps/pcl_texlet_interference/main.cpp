@@ -13,6 +13,7 @@
  * The output folder is written under a temporary name and renamed when complete.
  */
 #include "../common/app_main.h"
+#include "../common/folder_guard.h"
 #include "study_report.h"
 
 #include <pcl_texlet/multi_sensor/extrinsics.h>
@@ -69,26 +70,7 @@ struct Options
   bool no_plots = false, quiet = false;
 };
 
-/** Removes a folder on destruction unless released: the output of a failed run. */
-class FolderGuard
-{
-public:
-  explicit FolderGuard (fs::path p) : path_ (std::move (p)) {}
-  FolderGuard (const FolderGuard &) = delete;
-  FolderGuard &
-  operator= (const FolderGuard &) = delete;
-  ~FolderGuard ()
-  {
-    std::error_code ec;
-    if (!path_.empty ())
-      fs::remove_all (path_, ec);
-  }
-  void
-  release () { path_.clear (); }
-
-private:
-  fs::path path_;
-};
+using pcl_texlet_app::FolderGuard;
 
 void
 writeText (const fs::path &path, const std::string &text)

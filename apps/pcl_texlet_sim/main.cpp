@@ -8,6 +8,7 @@
  * run leaves no recording.
  */
 #include "../common/app_main.h"
+#include "../common/folder_guard.h"
 #include <pcl_texlet/simulator/effects.h>
 #include <pcl_texlet/simulator/kinect_simulator.h>
 #include <pcl_texlet/simulator/scene_setup.h>
@@ -167,26 +168,7 @@ makeSensor (const Options &o)
   return s;
 }
 
-/** Removes a folder on destruction unless released: the output of a failed run. */
-class FolderGuard
-{
-public:
-  explicit FolderGuard (fs::path p) : path_ (std::move (p)) {}
-  FolderGuard (const FolderGuard &) = delete;
-  FolderGuard &
-  operator= (const FolderGuard &) = delete;
-  ~FolderGuard ()
-  {
-    std::error_code ec;
-    if (!path_.empty ())
-      fs::remove_all (path_, ec);
-  }
-  void
-  release () { path_.clear (); }
-
-private:
-  fs::path path_;
-};
+using pcl_texlet_app::FolderGuard;
 
 int
 run (int argc, char **argv)
