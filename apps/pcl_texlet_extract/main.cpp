@@ -28,6 +28,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <random>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -55,13 +56,48 @@ struct Options
   std::string bad_frames = "skip"; // a frame that cannot be read: skip (warn, count) or fail
 };
 
+/** A uniform sample of at most kCapacity of the values added (reservoir sampling, fixed seed),
+  * so that a summary's medians cost bounded memory however long the recording: exact up to
+  * kCapacity values, a sample median beyond.
+  */
+class ValueSample
+{
+public:
+  static constexpr std::size_t kCapacity = 100000;
+
+  void
+  add (double x)
+  {
+    ++seen_;
+    if (values_.size () < kCapacity)
+      values_.push_back (x);
+    else
+    {
+      const std::size_t k = std::uniform_int_distribution<std::size_t> (0, seen_ - 1) (rng_);
+      if (k < kCapacity)
+        values_[k] = x;
+    }
+  }
+
+  bool
+  empty () const { return values_.empty (); }
+
+  const std::vector<double> &
+  values () const { return values_; }
+
+private:
+  std::vector<double> values_;
+  std::size_t seen_ = 0;
+  std::mt19937_64 rng_{1};
+};
+
 /** Running statistics for the summary. */
 struct Summary
 {
   std::size_t frames = 0, texlets = 0, valid = 0;
   std::size_t skipped = 0; ///< frames that could not be read, passed over (--bad-frames skip)
   double seconds = 0.0;
-  std::vector<double> position_sd_mm, normal_sd_deg, inlier_share;
+  ValueSample position_sd_mm, normal_sd_deg, inlier_share;
 };
 
 double
@@ -134,11 +170,11 @@ public:
       if (!std::isfinite (t.x))
         continue;
       ++valid;
-      sum_.inlier_share.push_back (t.support / disc);
+      sum_.inlier_share.add (t.support / disc);
       if (std::isfinite (t.cov_p_xx))
       {
-        sum_.position_sd_mm.push_back (1e3 * std::sqrt (t.cov_p_xx + t.cov_p_yy + t.cov_p_zz));
-        sum_.normal_sd_deg.push_back (180.0 / M_PI * std::sqrt (t.cov_n_11 + t.cov_n_22));
+        sum_.position_sd_mm.add (1e3 * std::sqrt (t.cov_p_xx + t.cov_p_yy + t.cov_p_zz));
+        sum_.normal_sd_deg.add (180.0 / M_PI * std::sqrt (t.cov_n_11 + t.cov_n_22));
       }
     }
     ++sum_.frames;
@@ -284,10 +320,10 @@ printSummary (const Summary &s, const Options &o)
             << (s.texlets ? 100.0 * s.valid / s.texlets : 0.0) << " %)\n"
             << "time:                  " << 1e3 * s.seconds / std::max<std::size_t> (s.frames, 1) << " ms per frame ("
             << pcl::texlet::toString (o.params.fit) << ", " << pcl::texlet::toString (o.params.uncertainty) << ")\n"
-            << "median inlier share:   " << 100.0 * median (s.inlier_share) << " % of the disc\n";
+            << "median inlier share:   " << 100.0 * median (s.inlier_share.values ()) << " % of the disc\n";
   if (!s.position_sd_mm.empty ())
-    std::cout << "median position SD:    " << median (s.position_sd_mm) << " mm  (sqrt trace Sigma_P)\n"
-              << "median normal SD:      " << median (s.normal_sd_deg) << " deg (sqrt trace Sigma_N)\n";
+    std::cout << "median position SD:    " << median (s.position_sd_mm.values ()) << " mm  (sqrt trace Sigma_P)\n"
+              << "median normal SD:      " << median (s.normal_sd_deg.values ()) << " deg (sqrt trace Sigma_N)\n";
   std::cout << "skipped frames:        " << s.skipped << " (could not be read; --bad-frames " << o.bad_frames
             << ")\n";
   std::cout << "output:                " << o.output << std::endl;

@@ -4,7 +4,9 @@
  */
 #pragma once
 
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -21,6 +23,7 @@ struct AppResult
 {
   int code = -1;
   std::string out, err;
+  long peak_rss_kb = 0; ///< the largest resident set of the command and what it ran, KiB
 };
 
 /** \brief The bytes of a file ("" when it cannot be read). */
@@ -41,9 +44,22 @@ runCommand (const std::string &command_line, const std::filesystem::path &captur
 {
   const std::filesystem::path out = capture_dir / "stdout", err = capture_dir / "stderr";
   const std::string cmd = command_line + " > '" + out.string () + "' 2> '" + err.string () + "'";
-  const int status = std::system (cmd.c_str ());
   AppResult r;
-  r.code = WIFEXITED (status) ? WEXITSTATUS (status) : -1;
+  // fork and wait4 rather than std::system, for the child's resource usage: its ru_maxrss is the
+  // largest of the shell and the processes it waited for.
+  const pid_t pid = ::fork ();
+  if (pid == 0)
+  {
+    ::execl ("/bin/sh", "sh", "-c", cmd.c_str (), static_cast<char *> (nullptr));
+    ::_exit (127);
+  }
+  int status = 0;
+  struct rusage usage = {};
+  if (pid > 0 && ::wait4 (pid, &status, 0, &usage) == pid)
+  {
+    r.code = WIFEXITED (status) ? WEXITSTATUS (status) : -1;
+    r.peak_rss_kb = usage.ru_maxrss;
+  }
   r.out = slurp (out);
   r.err = slurp (err);
   return r;
