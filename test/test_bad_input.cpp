@@ -18,6 +18,7 @@
 #include <png.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -322,4 +323,52 @@ TEST_F (BadInput, SxgaRecordingRoundTripsThroughWriterAndReader)
   ASSERT_TRUE (r->next (back));
   EXPECT_EQ (back.depth_mm, frame.depth_mm);
   EXPECT_EQ (back.rgb, frame.rgb);
+}
+
+TEST_F (BadInput, WritersLeaveNoPartialFile)
+{
+  // Into a folder that does not exist: an error naming the file, and nothing left anywhere.
+  const fs::path missing = dir / "missing";
+  CameraInfo info;
+  info.width = 4;
+  info.height = 3;
+  info.K[0] = info.K[4] = 5;
+  const std::vector<std::uint16_t> depth (12, 1000);
+  const std::vector<std::uint8_t> rgb (36, 9);
+  expectError<pcl::PCLException> ([&] { saveCameraInfoYaml ((missing / "camera.yaml").string (), info); },
+                                  "camera.yaml", "");
+  expectError<pcl::PCLException> ([&] { saveNoiseModelYaml ((missing / "model.yaml").string (), NoiseModel::paper ()); },
+                                  "model.yaml", "");
+  expectError<pcl::PCLException> ([&] { saveExtrinsicsYaml ((missing / "extrinsics.yaml").string (), {}); },
+                                  "extrinsics.yaml", "");
+  expectError<pcl::PCLException> ([&] { writeDepthPng ((missing / "d.png").string (), depth.data (), 4, 3); }, "d.png",
+                                  "");
+  expectError<pcl::PCLException> ([&] { writeRgbPng ((missing / "c.png").string (), rgb.data (), 4, 3); }, "c.png", "");
+  EXPECT_TRUE (fs::is_empty (dir));
+
+  // Written: the file and nothing beside it (no temporary left over).
+  saveCameraInfoYaml ((dir / "camera.yaml").string (), info);
+  saveNoiseModelYaml ((dir / "model.yaml").string (), NoiseModel::paper ());
+  saveExtrinsicsYaml ((dir / "extrinsics.yaml").string (), std::vector<SensorExtrinsics> (1));
+  writeDepthPng ((dir / "d.png").string (), depth.data (), 4, 3);
+  std::vector<std::string> names;
+  for (const auto &e : fs::directory_iterator (dir))
+    names.push_back (e.path ().filename ().string ());
+  std::sort (names.begin (), names.end ());
+  EXPECT_EQ (names, (std::vector<std::string>{"camera.yaml", "d.png", "extrinsics.yaml", "model.yaml"}));
+
+  // A recording writer destroyed before commit leaves no folder, not even its hidden temporary.
+  {
+    RecordingFolderWriter w ((dir / "rec").string (), info);
+    DepthFrame f;
+    f.name = "000000";
+    f.width = 4;
+    f.height = 3;
+    f.depth_mm = depth;
+    w.writeFrame (f);
+  }
+  std::size_t entries = 0;
+  for (const auto &e : fs::directory_iterator (dir))
+    entries += e.path ().filename ().string ().find ("rec") != std::string::npos ? 1 : 0;
+  EXPECT_EQ (entries, 0u);
 }

@@ -240,6 +240,14 @@ TEST_F (ExtractApp, BadInputExitsTwoWithOneLine)
   expectRejected (kRealFrame + " " + out.string () + " --fit ransac", "ransac", out);
   expectRejected (kRealFrame + " " + out.string () + " --camera 0 525 320 240", "focal", out);
   expectRejected (kRealFrame + " " + out.string () + " --spacing six", "spacing", out);
+  // NaN, infinite and absurd numbers.
+  expectRejected (kRealFrame + " " + out.string () + " --threshold nan", "threshold", out);
+  expectRejected (kRealFrame + " " + out.string () + " --sigmas inf", "threshold_sigmas", out);
+  expectRejected (kRealFrame + " " + out.string () + " --camera nan 525 320 240", "focal", out);
+  expectRejected (kRealFrame + " " + out.string () + " --camera 525 525 inf 240", "--camera: ", out);
+  expectRejected (kRealFrame + " " + out.string () + " --samples 2000000000", "samples", out);
+  expectRejected (kRealFrame + " " + out.string () + " --iterations 99999999", "ransac_iterations", out);
+  expectRejected (kRealFrame + " " + out.string () + " --threads 100000", "threads", out);
   expectRejected (kRealFrame + " " + (dir / "no" / "such" / "dir" / "out.pcd").string (), "does not exist",
                   dir / "no");
   expectRejected (kRealFrame, "OUTPUT", out); // missing argument

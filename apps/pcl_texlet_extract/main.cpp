@@ -135,8 +135,15 @@ public:
   explicit Extractor (const Options &o) : o_ (o)
   {
     if (o.intrinsics.size () == 4)
-      camera_ = std::make_shared<pcl::texlet::PinholeModel> (o.intrinsics[0], o.intrinsics[1], o.intrinsics[2],
-                                                              o.intrinsics[3]);
+      try
+      {
+        camera_ = std::make_shared<pcl::texlet::PinholeModel> (o.intrinsics[0], o.intrinsics[1], o.intrinsics[2],
+                                                                o.intrinsics[3]);
+      }
+      catch (const pcl::PCLException &e)
+      {
+        throw InputError ("--camera: " + pclMessage (e.what ()));
+      }
   }
 
   /** Texlets of one organised cloud, written to `out`. */
