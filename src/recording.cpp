@@ -473,9 +473,12 @@ loadCameraInfoYaml (const std::string &path)
   CameraInfo info;
   info.width = scalarAs<int> (requiredKey (root, "image_width", path), "image_width", "an integer", path);
   info.height = scalarAs<int> (requiredKey (root, "image_height", path), "image_height", "an integer", path);
-  if (info.width <= 0 || info.height <= 0 || info.width > kMaxImageSide || info.height > kMaxImageSide)
-    throw cameraYamlError (path, "image_width and image_height must be positive and at most " +
-                                     std::to_string (kMaxImageSide) + " (found " + sizeText (info.width, info.height) + ")");
+  if (info.width <= 0 || info.height <= 0)
+    throw cameraYamlError (path, "image_width and image_height must be positive (found " +
+                                     sizeText (info.width, info.height) + ")");
+  if (info.width > kMaxImageSide || info.height > kMaxImageSide)
+    throw cameraYamlError (path, "image_width and image_height must be at most " + std::to_string (kMaxImageSide) +
+                                     " (found " + sizeText (info.width, info.height) + ")");
 
   const std::vector<double> k = matrixData (root, "camera_matrix", path);
   if (k.size () != 9)
