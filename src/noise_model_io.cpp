@@ -206,6 +206,7 @@ saveNoiseModelYaml (const std::string &path, const NoiseModel &model)
   {
     std::ofstream out (tmp);
     out << noiseModelToYaml (model);
+    out.close (); // a failed flush (disk full) shows only here
     if (!out)
     {
       std::remove (tmp.c_str ());

@@ -359,7 +359,11 @@ readPng (const std::string &path, PngKind kind, int &width, int &height)
     channels = 3;
   }
 
-  // libpng caps both sizes at 1,000,000 by default, so they fit in an int.
+  // libpng caps both sizes at 1,000,000 by default, so they fit in an int; the header of a
+  // corrupt or hostile file could still ask for terabytes before a row is read.
+  if (header.width > static_cast<png_uint_32> (kMaxImageSide) || header.height > static_cast<png_uint_32> (kMaxImageSide))
+    throw error ("image size " + std::to_string (header.width) + "x" + std::to_string (header.height) +
+                 " is beyond the " + std::to_string (kMaxImageSide) + " pixels a side of any depth sensor (corrupt header?)");
   const std::size_t row_elements = std::size_t (header.width) * channels;
   std::vector<T> pixels (row_elements * header.height);
   if (!readPngRows (&ctx, &header, reinterpret_cast<unsigned char *> (pixels.data ()), row_elements * sizeof (T)))
@@ -472,6 +476,9 @@ loadCameraInfoYaml (const std::string &path)
   if (info.width <= 0 || info.height <= 0)
     throw cameraYamlError (path, "image_width and image_height must be positive (found " +
                                      sizeText (info.width, info.height) + ")");
+  if (info.width > kMaxImageSide || info.height > kMaxImageSide)
+    throw cameraYamlError (path, "image_width and image_height must be at most " + std::to_string (kMaxImageSide) +
+                                     " (found " + sizeText (info.width, info.height) + ")");
 
   const std::vector<double> k = matrixData (root, "camera_matrix", path);
   if (k.size () != 9)

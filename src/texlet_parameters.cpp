@@ -30,11 +30,14 @@ validate (const TexletParameters &p)
   require (p.radius >= 1, "radius", p.radius, "must be at least 1 pixel");
   require (p.radius <= 64, "radius", p.radius, "must be at most 64 pixels");
   require (p.ransac_iterations >= 1, "ransac_iterations", p.ransac_iterations, "must be at least 1");
+  // Upper bounds: beyond them a frame takes hours, which looks like a hang.
+  require (p.ransac_iterations <= 100000, "ransac_iterations", p.ransac_iterations, "must be at most 100000");
   require (p.ransac_threshold >= 0.0 && std::isfinite (p.ransac_threshold), "ransac_threshold", p.ransac_threshold,
            "must be a finite distance in metres, or 0 for the noise model's");
   require (p.threshold_sigmas > 0.0 && std::isfinite (p.threshold_sigmas), "threshold_sigmas", p.threshold_sigmas,
            "must be positive");
   require (p.samples >= 2, "samples", p.samples, "must be at least 2 for a covariance");
+  require (p.samples <= 100000, "samples", p.samples, "must be at most 100000");
   require (p.min_support >= 3, "min_support", p.min_support, "must be at least 3 points");
   require (std::isfinite (p.viewpoint[0]) && std::isfinite (p.viewpoint[1]) && std::isfinite (p.viewpoint[2]),
            "viewpoint", "non-finite", "must be finite");

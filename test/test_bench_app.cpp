@@ -9,6 +9,8 @@
 #include <pcl/point_types.h>
 
 #include <gtest/gtest.h>
+
+#include "support/app_run.h"
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -29,20 +31,9 @@ using nlohmann::json;
 namespace
 {
 
-struct Result
-{
-  int code = -1;
-  std::string out, err;
-};
+using Result = pcl_texlet_test::AppResult;
+using pcl_texlet_test::slurp;
 
-std::string
-slurp (const fs::path &p)
-{
-  std::ifstream f (p);
-  std::stringstream s;
-  s << f.rdbuf ();
-  return s.str ();
-}
 
 fs::path
 tempDir (const std::string &name)
@@ -53,14 +44,7 @@ tempDir (const std::string &name)
 Result
 runBench (const fs::path &dir, const std::string &args)
 {
-  const std::string cmd = std::string (BENCH_APP) + " " + args + " > " + (dir / "stdout").string () + " 2> " +
-                          (dir / "stderr").string ();
-  const int status = std::system (cmd.c_str ());
-  Result r;
-  r.code = WIFEXITED (status) ? WEXITSTATUS (status) : -1;
-  r.out = slurp (dir / "stdout");
-  r.err = slurp (dir / "stderr");
-  return r;
+  return pcl_texlet_test::runApp (BENCH_APP, args, dir);
 }
 
 /** One run of the whole tool on a 160x120 simulated plane, shared by the tests below. */

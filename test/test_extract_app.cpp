@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/app_run.h"
+
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -23,20 +25,9 @@ namespace fs = std::filesystem;
 namespace
 {
 
-struct Result
-{
-  int code = -1;
-  std::string out, err;
-};
+using Result = pcl_texlet_test::AppResult;
+using pcl_texlet_test::slurp;
 
-std::string
-slurp (const fs::path &p)
-{
-  std::ifstream f (p);
-  std::stringstream s;
-  s << f.rdbuf ();
-  return s.str ();
-}
 
 class ExtractApp : public ::testing::Test
 {
@@ -51,14 +42,7 @@ protected:
   Result
   run (const std::string &args)
   {
-    const std::string cmd = std::string (EXTRACT_APP) + " " + args + " > " + (dir / "stdout").string () + " 2> " +
-                            (dir / "stderr").string ();
-    const int status = std::system (cmd.c_str ());
-    Result r;
-    r.code = WIFEXITED (status) ? WEXITSTATUS (status) : -1;
-    r.out = slurp (dir / "stdout");
-    r.err = slurp (dir / "stderr");
-    return r;
+    return pcl_texlet_test::runApp (EXTRACT_APP, args, dir);
   }
 
   /** Bad input: exit 2, exactly one line on stderr that mentions `needle`, no output file. */
@@ -256,6 +240,14 @@ TEST_F (ExtractApp, BadInputExitsTwoWithOneLine)
   expectRejected (kRealFrame + " " + out.string () + " --fit ransac", "ransac", out);
   expectRejected (kRealFrame + " " + out.string () + " --camera 0 525 320 240", "focal", out);
   expectRejected (kRealFrame + " " + out.string () + " --spacing six", "spacing", out);
+  // NaN, infinite and absurd numbers.
+  expectRejected (kRealFrame + " " + out.string () + " --threshold nan", "threshold", out);
+  expectRejected (kRealFrame + " " + out.string () + " --sigmas inf", "threshold_sigmas", out);
+  expectRejected (kRealFrame + " " + out.string () + " --camera nan 525 320 240", "focal", out);
+  expectRejected (kRealFrame + " " + out.string () + " --camera 525 525 inf 240", "--camera: ", out);
+  expectRejected (kRealFrame + " " + out.string () + " --samples 2000000000", "samples", out);
+  expectRejected (kRealFrame + " " + out.string () + " --iterations 99999999", "ransac_iterations", out);
+  expectRejected (kRealFrame + " " + out.string () + " --threads 100000", "threads", out);
   expectRejected (kRealFrame + " " + (dir / "no" / "such" / "dir" / "out.pcd").string (), "does not exist",
                   dir / "no");
   expectRejected (kRealFrame, "OUTPUT", out); // missing argument
@@ -264,20 +256,14 @@ TEST_F (ExtractApp, BadInputExitsTwoWithOneLine)
 TEST_F (ExtractApp, BadRecordingsExitTwo)
 {
   const fs::path rec = makeRecording (3), out = dir / "out";
-  // A frame whose size differs from camera.yaml: the frames before it are complete files, the
-  // bad one is named, and no temporary file is left.
+  // A frame whose size differs from camera.yaml, with --bad-frames fail: the bad frame is named
+  // and the output folder this run made is gone (no half-written output).
   {
     std::vector<std::uint16_t> depth (32 * 24, 1000);
     pcl::texlet::writeDepthPng ((rec / "depth" / "000001.png").string (), depth.data (), 32, 24);
   }
-  const Result r = run (rec.string () + " " + out.string () + " --quiet");
-  EXPECT_EQ (r.code, 2) << r.err;
-  EXPECT_EQ (std::count (r.err.begin (), r.err.end (), '\n'), 1) << r.err;
-  EXPECT_NE (r.err.find ("000001.png"), std::string::npos) << r.err;
-  EXPECT_TRUE (fs::exists (out / "000000.pcd"));
-  EXPECT_FALSE (fs::exists (out / "000001.pcd"));
-  EXPECT_FALSE (fs::exists (out / "000001.pcd.tmp"));
-  fs::remove_all (out);
+  expectRejected (rec.string () + " " + out.string () + " --quiet --bad-frames fail", "000001.png", out);
+  expectRejected (rec.string () + " " + out.string () + " --bad-frames maybe", "--bad-frames", out);
 
   std::ofstream (rec / "camera.yaml") << "image_width: [unbalanced\n";
   expectRejected (rec.string () + " " + out.string (), "camera.yaml", out);
@@ -287,10 +273,115 @@ TEST_F (ExtractApp, BadRecordingsExitTwo)
   expectRejected (empty.string () + " " + out.string (), "empty", out);
 }
 
+TEST_F (ExtractApp, CorruptFrameInTheMiddleIsSkippedAndCounted)
+{
+  const fs::path rec = makeRecording (5), out = dir / "out";
+  // 000002.png cut short (a truncated write), 000003.png the wrong size.
+  const std::string bytes = slurp (rec / "depth" / "000002.png");
+  std::ofstream (rec / "depth" / "000002.png", std::ios::binary) << bytes.substr (0, bytes.size () / 2);
+  {
+    std::vector<std::uint16_t> depth (32 * 24, 1000);
+    pcl::texlet::writeDepthPng ((rec / "depth" / "000003.png").string (), depth.data (), 32, 24);
+  }
+  const Result r = run (rec.string () + " " + out.string () + " --quiet --uncertainty none");
+  ASSERT_EQ (r.code, 0) << r.err;
+  // One warning per bad frame, naming it; shown even with --quiet.
+  EXPECT_EQ (pcl_texlet_test::lineCount (r.err), 2u) << r.err;
+  EXPECT_NE (r.err.find ("warning"), std::string::npos) << r.err;
+  EXPECT_NE (r.err.find ("000002.png"), std::string::npos) << r.err;
+  EXPECT_NE (r.err.find ("000003.png"), std::string::npos) << r.err;
+  EXPECT_NE (r.out.find ("frames:                3\n"), std::string::npos) << r.out;
+  EXPECT_NE (r.out.find ("skipped frames:        2 "), std::string::npos) << r.out;
+  for (const char *name : {"000000", "000001", "000004"})
+    EXPECT_TRUE (fs::exists (out / (std::string (name) + ".pcd"))) << name;
+  EXPECT_FALSE (fs::exists (out / "000002.pcd"));
+  EXPECT_FALSE (fs::exists (out / "000003.pcd"));
+
+  // A folder of PCD files follows the same policy.
+  const fs::path pcds = dir / "pcds", out2 = dir / "out2";
+  fs::create_directories (pcds);
+  fs::copy_file (kRealFrame, pcds / "a.pcd");
+  std::ofstream (pcds / "b.pcd") << "# .PCD v0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 640\n"
+                                   "HEIGHT 480\nPOINTS 307200\nDATA binary\n\x01\x02";
+  const Result p = run (pcds.string () + " " + out2.string () + " --quiet --uncertainty none");
+  ASSERT_EQ (p.code, 0) << p.err;
+  EXPECT_NE (p.err.find ("b.pcd"), std::string::npos) << p.err;
+  EXPECT_NE (p.out.find ("skipped frames:        1 "), std::string::npos) << p.out;
+  EXPECT_TRUE (fs::exists (out2 / "a.pcd"));
+  EXPECT_FALSE (fs::exists (out2 / "b.pcd"));
+
+  // Every frame bad: nothing to show for it is an error, and no output folder is left.
+  for (const char *name : {"000000", "000001", "000004"})
+    std::ofstream (rec / "depth" / (std::string (name) + ".png")) << "not a PNG";
+  const Result all = run (rec.string () + " " + (dir / "out3").string () + " --quiet");
+  EXPECT_EQ (all.code, 2) << all.err;
+  EXPECT_EQ (pcl_texlet_test::lineCount (all.err), 6u) << all.err; // 5 warnings, 1 error
+  EXPECT_NE (all.err.find ("error: no frame of"), std::string::npos) << all.err;
+  EXPECT_FALSE (fs::exists (dir / "out3"));
+}
+
+TEST_F (ExtractApp, XtionSxgaFramesEndToEnd)
+{
+  // 1280x1024 (the Xtion's SXGA mode) from the simulator, read back and extracted: a fronto-
+  // parallel wall at 1.5 m, so every texlet faces the camera at that depth.
+  const fs::path rec = dir / "sxga", out = dir / "out";
+  const Result sim = pcl_texlet_test::runApp (SIM_APP, "--width 1280 --height 1024 --frames 2 --distance 1.5 -q " +
+                                                           rec.string (), dir);
+  ASSERT_EQ (sim.code, 0) << sim.err;
+  const Result r = run (rec.string () + " " + out.string () + " --quiet --uncertainty analytic --spacing 12");
+  ASSERT_EQ (r.code, 0) << r.err;
+  EXPECT_NE (r.out.find ("frames:                2\n"), std::string::npos) << r.out;
+  pcl::PointCloud<pcl::Texlet> texlets;
+  ASSERT_EQ (pcl::io::loadPCDFile ((out / "000001.pcd").string (), texlets), 0);
+  EXPECT_EQ (texlets.size (), pcl::texlet::kernels::makeHexGrid (1280, 1024, 12).size ());
+  // Per texlet the normal is noisy (a 1.5 mm-pixel disc under millimetres of depth noise); the
+  // mean normal and the median depth are the wall's.
+  std::size_t valid = 0;
+  Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero ();
+  std::vector<double> depth_error;
+  for (const auto &t : texlets)
+    if (std::isfinite (t.x))
+    {
+      ++valid;
+      normal_sum += Eigen::Vector3d (t.normal_x, t.normal_y, t.normal_z);
+      depth_error.push_back (std::abs (t.z - 1.5));
+    }
+  ASSERT_GT (valid, 0u);
+  EXPECT_GT (-normal_sum.normalized ().z (), std::cos (M_PI / 180.0)) << normal_sum.transpose ();
+  std::nth_element (depth_error.begin (), depth_error.begin () + valid / 2, depth_error.end ());
+  EXPECT_LT (depth_error[valid / 2], 0.003);
+  EXPECT_GT (valid, texlets.size () * 9 / 10);
+}
+
 TEST_F (ExtractApp, HelpExitsZero)
 {
   const Result r = run ("--help");
   EXPECT_EQ (r.code, 0);
   EXPECT_NE (r.out.find ("--spacing"), std::string::npos);
   EXPECT_NE (r.out.find ("--uncertainty"), std::string::npos);
+}
+
+TEST_F (ExtractApp, LongRecordingsStreamInBoundedMemory)
+{
+  // One frame at a time, and the summary's medians from a bounded sample: ten times the frames
+  // costs time, not memory. At spacing 2 a 160 x 120 frame has about 5,500 texlets; keeping a
+  // number per texlet for the summary, as the app once did, would add about 12 MB over the 270
+  // extra frames (8 bytes each), and keeping the frames' clouds 600 kB a frame.
+  long peak[2] = {0, 0};
+  int k = 0;
+  for (const int frames : {30, 300})
+  {
+    const fs::path rec = dir / ("rec" + std::to_string (frames)), out = dir / ("out" + std::to_string (frames));
+    const Result sim = pcl_texlet_test::runApp (SIM_APP, "--width 160 --height 120 --frames " + std::to_string (frames) +
+                                                             " --seed 5 -q " + rec.string (), dir);
+    ASSERT_EQ (sim.code, 0) << sim.err;
+    const Result r = run (rec.string () + " " + out.string () + " -q -j 1 --spacing 2 --uncertainty none");
+    ASSERT_EQ (r.code, 0) << r.err;
+    EXPECT_NE (r.out.find ("frames:                " + std::to_string (frames) + "\n"), std::string::npos) << r.out;
+    peak[k++] = r.peak_rss_kb;
+    fs::remove_all (out);
+  }
+  ASSERT_GT (peak[0], 0);
+  EXPECT_LT (peak[1] - peak[0], 6 * 1024) << "peak RSS " << peak[0] << " kB for 30 frames, " << peak[1]
+                                          << " kB for 300";
 }

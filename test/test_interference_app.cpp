@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/app_run.h"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,20 +25,9 @@ using nlohmann::json;
 namespace
 {
 
-struct Result
-{
-  int code = -1;
-  std::string out, err;
-};
+using Result = pcl_texlet_test::AppResult;
+using pcl_texlet_test::slurp;
 
-std::string
-slurp (const fs::path &p)
-{
-  std::ifstream f (p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf ();
-  return s.str ();
-}
 
 bool
 isPng (const fs::path &p)
@@ -70,13 +61,7 @@ protected:
   Result
   run (const std::string &app, const std::string &args)
   {
-    const std::string cmd = app + " " + args + " > " + (dir / "stdout").string () + " 2> " + (dir / "stderr").string ();
-    const int status = std::system (cmd.c_str ());
-    Result r;
-    r.code = WIFEXITED (status) ? WEXITSTATUS (status) : -1;
-    r.out = slurp (dir / "stdout");
-    r.err = slurp (dir / "stderr");
-    return r;
+    return pcl_texlet_test::runApp (app, args, dir);
   }
 
   Result

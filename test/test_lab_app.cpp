@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/app_run.h"
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -22,20 +24,8 @@ namespace fs = std::filesystem;
 namespace
 {
 
-std::string
-slurp (const fs::path &p)
-{
-  std::ifstream in (p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf ();
-  return s.str ();
-}
-
-struct Result
-{
-  int code;
-  std::string out, err;
-};
+using pcl_texlet_test::slurp;
+using Result = pcl_texlet_test::AppResult;
 
 const fs::path &
 workDir ()
@@ -47,10 +37,7 @@ workDir ()
 Result
 run (const std::string &cmdline)
 {
-  const fs::path out = workDir () / "stdout", err = workDir () / "stderr";
-  const std::string cmd = cmdline + " > " + out.string () + " 2> " + err.string ();
-  const int status = std::system (cmd.c_str ());
-  return {WIFEXITED (status) ? WEXITSTATUS (status) : -1, slurp (out), slurp (err)};
+  return pcl_texlet_test::runCommand (cmdline, workDir ());
 }
 
 class LabApp : public ::testing::Test
@@ -111,7 +98,8 @@ TEST_F (LabApp, SessionWritesTheReportAndAModelTheExtractorLoads)
   std::set<std::string> keys;
   for (const auto &kv : j.items ())
     keys.insert (kv.key ());
-  EXPECT_EQ (keys, (std::set<std::string>{"model", "metrics", "candidates", "steps"}));
+  EXPECT_EQ (keys, (std::set<std::string>{"model", "metrics", "candidates", "steps", "skipped_frames", "notes"}));
+  EXPECT_EQ (j["skipped_frames"], 0);
   for (const char *m : {"sd_rmse_mm", "bias_rmse_mm", "nll"})
     EXPECT_TRUE (j["metrics"][m].is_number ()) << m;
   EXPECT_EQ (j["model"]["terms"][0]["name"], "polynomial");
@@ -205,4 +193,61 @@ TEST_F (LabApp, BadInputExitsWithOneLine)
   }
   expectInputError (out + " --model " + (workDir () / "bad.yaml").string () + walls (), "parameter 'gain' is missing");
   expectInputError (out + " --model " + (workDir () / "bad.yaml").string () + walls (), "bad.yaml");
+}
+
+TEST_F (LabApp, CorruptFrameInTheMiddleIsSkippedAndCountedInTheReport)
+{
+  // wall_0 with its frame 000005.png cut short (a truncated write).
+  const fs::path rec = workDir () / "wall_0_damaged", report = workDir () / "damaged_report";
+  fs::copy (workDir () / "wall_0", rec, fs::copy_options::recursive);
+  const std::string bytes = slurp (rec / "depth" / "000005.png");
+  std::ofstream (rec / "depth" / "000005.png", std::ios::binary) << bytes.substr (0, bytes.size () / 3);
+
+  const Result r = run (std::string (LAB_APP) + " -q --null-replicates 2 --report " + report.string () + " " +
+                        rec.string ());
+  ASSERT_EQ (r.code, 0) << r.err;
+  EXPECT_NE (r.err.find ("warning: skipped a frame that cannot be read"), std::string::npos) << r.err;
+  EXPECT_NE (r.err.find ("000005.png"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse (slurp (report / "report.json"));
+  EXPECT_EQ (j["skipped_frames"], 1);
+  ASSERT_EQ (j["notes"].size (), 1u);
+  EXPECT_NE (j["notes"][0].get<std::string> ().find ("1 frame(s) could not be read"), std::string::npos);
+  EXPECT_NE (slurp (report / "report.html").find ("1 frame(s) could not be read"), std::string::npos);
+
+  expectInputError ("--bad-frames fail --report " + (workDir () / "failed").string () + " " + rec.string (),
+                    "000005.png");
+  expectInputError ("--bad-frames later --report " + (workDir () / "failed").string () + " " + rec.string (),
+                    "--bad-frames");
+  expectInputError ("--max-frames 1 --report " + (workDir () / "failed").string () + " " + rec.string (),
+                    "--max-frames");
+}
+
+TEST_F (LabApp, LongRecordingsStreamInBoundedMemory)
+{
+  // The lab keeps --max-frames evenly spaced frames and reads the rest on the way: ten times the
+  // frames costs time, not memory. 160 x 120 frames are 38 kB of depth each, so keeping the 270
+  // extra frames of the long recording would add over 10 MB (more with the lab's per-frame data).
+  const fs::path short_rec = workDir () / "short", long_rec = workDir () / "long";
+  for (const auto &[rec, frames] : {std::make_pair (short_rec, 30), std::make_pair (long_rec, 300)})
+  {
+    const Result sim = run (std::string (SIM_APP) + " --width 160 --height 120 --frames " + std::to_string (frames) +
+                            " --seed 3 -q " + rec.string ());
+    ASSERT_EQ (sim.code, 0) << sim.err;
+  }
+  long peak[2] = {0, 0};
+  int k = 0;
+  for (const fs::path &rec : {short_rec, long_rec})
+  {
+    const fs::path report = workDir () / ("bounded_" + std::to_string (k));
+    const Result r = run (std::string (LAB_APP) + " -j 1 --max-frames 20 --null-replicates 2 --report " +
+                          report.string () + " " + rec.string ());
+    ASSERT_EQ (r.code, 0) << r.err;
+    EXPECT_NE (r.out.find ("skipped frames: 0"), std::string::npos) << r.out;
+    EXPECT_NE (slurp (report / "report.html").find (rec.string () + "</td><td>20</td>"), std::string::npos)
+        << "20 frames kept";
+    peak[k++] = r.peak_rss_kb;
+  }
+  ASSERT_GT (peak[0], 0);
+  EXPECT_LT (peak[1] - peak[0], 4 * 1024) << "peak RSS " << peak[0] << " kB for 30 frames, " << peak[1]
+                                          << " kB for 300";
 }

@@ -758,19 +758,12 @@ run (int argc, char **argv)
     throw InputError ("--fits needs at least one plane fit");
   if (!o.scene.empty () && std::find (sceneNames ().begin (), sceneNames ().end (), o.scene) == sceneNames ().end ())
     throw InputError ("--scene '" + o.scene + "' is not one of plane, sphere, box");
-  try
-  {
-    pcl::texlet::TexletParameters p;
-    p.spacing = o.setup.spacing;
-    p.radius = o.setup.radius;
-    p.ransac_iterations = o.setup.iterations;
-    p.samples = o.setup.samples;
-    pcl::texlet::validate (p);
-  }
-  catch (const pcl::PCLException &e)
-  {
-    throw InputError (pclMessage (e.what ()));
-  }
+  pcl::texlet::TexletParameters p;
+  p.spacing = o.setup.spacing;
+  p.radius = o.setup.radius;
+  p.ransac_iterations = o.setup.iterations;
+  p.samples = o.setup.samples;
+  pcl::texlet::validate (p);
   if (!o.json_path.empty () && !fs::is_directory (fs::absolute (o.json_path).parent_path ()))
     throw InputError ("the folder that should hold --json '" + o.json_path + "' does not exist");
   if (!o.data_dir.empty () && !fs::is_directory (o.data_dir))
@@ -788,55 +781,48 @@ run (int argc, char **argv)
   const std::vector<MethodSpec> methods = comparisonMethods (fits, o.organized_knn);
   std::cout << "machine: " << cpuModel () << ", " << std::thread::hardware_concurrency () << " hardware threads; "
             << o.setup.threads << " threads used; load average " << fmt (loadAverage (), 2) << "\n";
-  try
+  if (o.timing || o.table1 || o.scaling)
   {
-    if (o.timing || o.table1 || o.scaling)
+    const Input in = loadInput (o);
+    j["input"] = in.description;
+    if (o.timing)
     {
-      const Input in = loadInput (o);
-      j["input"] = in.description;
-      if (o.timing)
+      j["timing"] = runTiming (o, in, methods);
+      if (!o.data_dir.empty ())
       {
-        j["timing"] = runTiming (o, in, methods);
-        if (!o.data_dir.empty ())
-        {
-          std::ostringstream d;
-          d << "# index name wall: median_ms q1_ms q3_ms min_ms max_ms ratio_to_reference; CPU: median_ms q1_ms q3_ms "
-               "ratio_to_reference\n";
-          int k = 0;
-          for (const auto &m : j["timing"]["methods"])
-            d << k++ << " " << m["name"].get<std::string> () << " " << m["time_ms"]["median"] << " "
-              << m["time_ms"]["q1"] << " " << m["time_ms"]["q3"] << " " << m["time_ms"]["min"] << " "
-              << m["time_ms"]["max"] << " " << m["ratio_to_reference"] << " " << m["cpu_time_ms"]["median"] << " "
-              << m["cpu_time_ms"]["q1"] << " " << m["cpu_time_ms"]["q3"] << " " << m["cpu_ratio_to_reference"] << "\n";
-          writeAtomically ((fs::path (o.data_dir) / "timing.dat").string (), d.str ());
-        }
-      }
-      if (o.table1)
-        j["table1"] = runTable1 (o, in);
-      if (o.scaling)
-      {
-        std::string ds, dr;
-        j["scaling"] = runScaling (o, in, ds, dr);
-        if (!o.data_dir.empty ())
-        {
-          writeAtomically ((fs::path (o.data_dir) / "scaling_spacing.dat").string (), ds);
-          writeAtomically ((fs::path (o.data_dir) / "scaling_radius.dat").string (), dr);
-        }
+        std::ostringstream d;
+        d << "# index name wall: median_ms q1_ms q3_ms min_ms max_ms ratio_to_reference; CPU: median_ms q1_ms q3_ms "
+             "ratio_to_reference\n";
+        int k = 0;
+        for (const auto &m : j["timing"]["methods"])
+          d << k++ << " " << m["name"].get<std::string> () << " " << m["time_ms"]["median"] << " "
+            << m["time_ms"]["q1"] << " " << m["time_ms"]["q3"] << " " << m["time_ms"]["min"] << " "
+            << m["time_ms"]["max"] << " " << m["ratio_to_reference"] << " " << m["cpu_time_ms"]["median"] << " "
+            << m["cpu_time_ms"]["q1"] << " " << m["cpu_time_ms"]["q3"] << " " << m["cpu_ratio_to_reference"] << "\n";
+        writeAtomically ((fs::path (o.data_dir) / "timing.dat").string (), d.str ());
       }
     }
-    if (o.accuracy)
-      j["accuracy"] = runAccuracy (o, methods);
-    if (o.fig8)
+    if (o.table1)
+      j["table1"] = runTable1 (o, in);
+    if (o.scaling)
     {
-      std::string d;
-      j["fig8"] = runFig8 (o, d);
+      std::string ds, dr;
+      j["scaling"] = runScaling (o, in, ds, dr);
       if (!o.data_dir.empty ())
-        writeAtomically ((fs::path (o.data_dir) / "fig8.dat").string (), d);
+      {
+        writeAtomically ((fs::path (o.data_dir) / "scaling_spacing.dat").string (), ds);
+        writeAtomically ((fs::path (o.data_dir) / "scaling_radius.dat").string (), dr);
+      }
     }
   }
-  catch (const pcl::PCLException &e)
+  if (o.accuracy)
+    j["accuracy"] = runAccuracy (o, methods);
+  if (o.fig8)
   {
-    throw InputError (pclMessage (e.what ()));
+    std::string d;
+    j["fig8"] = runFig8 (o, d);
+    if (!o.data_dir.empty ())
+      writeAtomically ((fs::path (o.data_dir) / "fig8.dat").string (), d);
   }
   j["machine"]["load_average_at_end"] = num (loadAverage ());
   if (!o.json_path.empty ())

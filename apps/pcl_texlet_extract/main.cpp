@@ -6,6 +6,8 @@
  * Exit codes: 0 success, 2 bad input or options (one line on stderr), 1 unexpected failure.
  */
 #include "../common/app_main.h"
+#include "../common/folder_guard.h"
+#include <pcl_texlet/frame_skipping_reader.h>
 #include <pcl_texlet/depth_image.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/pinhole_model.h>
@@ -26,6 +28,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <random>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -50,14 +53,51 @@ struct Options
   pcl::texlet::NoiseModel noise = pcl::texlet::NoiseModel::paper ();
   unsigned threads = 0;
   bool ascii = false, quiet = false;
+  std::string bad_frames = "skip"; // a frame that cannot be read: skip (warn, count) or fail
+};
+
+/** A uniform sample of at most kCapacity of the values added (reservoir sampling, fixed seed),
+  * so that a summary's medians cost bounded memory however long the recording: exact up to
+  * kCapacity values, a sample median beyond.
+  */
+class ValueSample
+{
+public:
+  static constexpr std::size_t kCapacity = 100000;
+
+  void
+  add (double x)
+  {
+    ++seen_;
+    if (values_.size () < kCapacity)
+      values_.push_back (x);
+    else
+    {
+      const std::size_t k = std::uniform_int_distribution<std::size_t> (0, seen_ - 1) (rng_);
+      if (k < kCapacity)
+        values_[k] = x;
+    }
+  }
+
+  bool
+  empty () const { return values_.empty (); }
+
+  const std::vector<double> &
+  values () const { return values_; }
+
+private:
+  std::vector<double> values_;
+  std::size_t seen_ = 0;
+  std::mt19937_64 rng_{1};
 };
 
 /** Running statistics for the summary. */
 struct Summary
 {
   std::size_t frames = 0, texlets = 0, valid = 0;
+  std::size_t skipped = 0; ///< frames that could not be read, passed over (--bad-frames skip)
   double seconds = 0.0;
-  std::vector<double> position_sd_mm, normal_sd_deg, inlier_share;
+  ValueSample position_sd_mm, normal_sd_deg, inlier_share;
 };
 
 double
@@ -95,8 +135,15 @@ public:
   explicit Extractor (const Options &o) : o_ (o)
   {
     if (o.intrinsics.size () == 4)
-      camera_ = std::make_shared<pcl::texlet::PinholeModel> (o.intrinsics[0], o.intrinsics[1], o.intrinsics[2],
-                                                              o.intrinsics[3]);
+      try
+      {
+        camera_ = std::make_shared<pcl::texlet::PinholeModel> (o.intrinsics[0], o.intrinsics[1], o.intrinsics[2],
+                                                                o.intrinsics[3]);
+      }
+      catch (const pcl::PCLException &e)
+      {
+        throw InputError ("--camera: " + pclMessage (e.what ()));
+      }
   }
 
   /** Texlets of one organised cloud, written to `out`. */
@@ -130,11 +177,11 @@ public:
       if (!std::isfinite (t.x))
         continue;
       ++valid;
-      sum_.inlier_share.push_back (t.support / disc);
+      sum_.inlier_share.add (t.support / disc);
       if (std::isfinite (t.cov_p_xx))
       {
-        sum_.position_sd_mm.push_back (1e3 * std::sqrt (t.cov_p_xx + t.cov_p_yy + t.cov_p_zz));
-        sum_.normal_sd_deg.push_back (180.0 / M_PI * std::sqrt (t.cov_n_11 + t.cov_n_22));
+        sum_.position_sd_mm.add (1e3 * std::sqrt (t.cov_p_xx + t.cov_p_yy + t.cov_p_zz));
+        sum_.normal_sd_deg.add (180.0 / M_PI * std::sqrt (t.cov_n_11 + t.cov_n_22));
       }
     }
     ++sum_.frames;
@@ -150,6 +197,9 @@ public:
   void
   setFrameCount (std::size_t n) { frames_total_ = n; }
 
+  void
+  noteSkipped (std::size_t n) { sum_.skipped += n; }
+
   const Summary &
   summary () const { return sum_; }
 
@@ -160,9 +210,16 @@ private:
   std::size_t frames_total_ = 1;
 };
 
-/** Organised PCD file: XYZRGBA when it has colour, XYZ otherwise. */
-void
-extractPcd (Extractor &ex, const std::string &file, const std::string &out)
+/** An organised PCD file, read: XYZRGBA when it has colour, XYZ otherwise. */
+struct PcdCloud
+{
+  pcl::PointCloud<pcl::PointXYZ>::Ptr xyz;
+  pcl::PointCloud<pcl::PointXYZRGBA>::Ptr rgba;
+};
+
+/** \throws InputError naming the file: missing, not a PCD file, no x/y/z, unorganised, truncated. */
+PcdCloud
+loadPcd (const std::string &file)
 {
   if (!fs::is_regular_file (file))
     throw InputError ("input '" + file + "' does not exist or is not a file");
@@ -190,10 +247,28 @@ extractPcd (Extractor &ex, const std::string &file, const std::string &out)
       throw InputError ("cannot read '" + file + "': corrupt or truncated PCD data");
     return cloud;
   };
+  PcdCloud c;
   if (colour)
-    ex.run<pcl::PointXYZRGBA> (load (std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ()), nullptr, file, out);
+    c.rgba = load (std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ());
   else
-    ex.run<pcl::PointXYZ> (load (std::make_shared<pcl::PointCloud<pcl::PointXYZ>> ()), nullptr, file, out);
+    c.xyz = load (std::make_shared<pcl::PointCloud<pcl::PointXYZ>> ());
+  return c;
+}
+
+void
+extractPcd (Extractor &ex, const PcdCloud &c, const std::string &file, const std::string &out)
+{
+  if (c.rgba)
+    ex.run<pcl::PointXYZRGBA> (c.rgba, nullptr, file, out);
+  else
+    ex.run<pcl::PointXYZ> (c.xyz, nullptr, file, out);
+}
+
+/** Warns on stderr of a frame passed over; shown even with --quiet, since output is missing. */
+void
+warnSkipped (const std::string &message)
+{
+  std::cerr << kName << ": warning: skipped a frame that cannot be read: " << message << std::endl;
 }
 
 /** Every frame of a recording, back-projected with the recording's own camera. */
@@ -205,9 +280,9 @@ extractRecording (Extractor &ex, pcl::texlet::RecordingReader &reader, pcl::texl
   const auto camera = std::make_shared<pcl::texlet::PinholeModel> (pcl::texlet::PinholeModel::fromCameraInfo (info));
   ex.setFrameCount (reader.size ());
   pcl::texlet::DepthFrame frame;
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
   while (reader.next (frame))
   {
-    auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
     pcl::texlet::depthToCloud (frame, *camera, *cloud);
     // Names the frame's file where there is one, else the frame within the input.
     const std::string source = kind == pcl::texlet::RecordingKind::recording_folder
@@ -217,12 +292,30 @@ extractRecording (Extractor &ex, pcl::texlet::RecordingReader &reader, pcl::texl
   }
 }
 
-void
-extractPcdFolder (Extractor &ex, const std::vector<std::string> &files, const std::string &out_dir)
+/** \return the files that could not be read and were skipped (0 unless \a skip). */
+std::size_t
+extractPcdFolder (Extractor &ex, const std::vector<std::string> &files, const std::string &out_dir, bool skip)
 {
   ex.setFrameCount (files.size ());
+  std::size_t skipped = 0;
   for (const auto &f : files)
-    extractPcd (ex, f, (fs::path (out_dir) / fs::path (f).filename ()).string ());
+  {
+    PcdCloud cloud;
+    try
+    {
+      cloud = loadPcd (f);
+    }
+    catch (const InputError &e)
+    {
+      if (!skip)
+        throw;
+      warnSkipped (e.what ());
+      ++skipped;
+      continue;
+    }
+    extractPcd (ex, cloud, f, (fs::path (out_dir) / fs::path (f).filename ()).string ());
+  }
+  return skipped;
 }
 
 void
@@ -234,10 +327,12 @@ printSummary (const Summary &s, const Options &o)
             << (s.texlets ? 100.0 * s.valid / s.texlets : 0.0) << " %)\n"
             << "time:                  " << 1e3 * s.seconds / std::max<std::size_t> (s.frames, 1) << " ms per frame ("
             << pcl::texlet::toString (o.params.fit) << ", " << pcl::texlet::toString (o.params.uncertainty) << ")\n"
-            << "median inlier share:   " << 100.0 * median (s.inlier_share) << " % of the disc\n";
+            << "median inlier share:   " << 100.0 * median (s.inlier_share.values ()) << " % of the disc\n";
   if (!s.position_sd_mm.empty ())
-    std::cout << "median position SD:    " << median (s.position_sd_mm) << " mm  (sqrt trace Sigma_P)\n"
-              << "median normal SD:      " << median (s.normal_sd_deg) << " deg (sqrt trace Sigma_N)\n";
+    std::cout << "median position SD:    " << median (s.position_sd_mm.values ()) << " mm  (sqrt trace Sigma_P)\n"
+              << "median normal SD:      " << median (s.normal_sd_deg.values ()) << " deg (sqrt trace Sigma_N)\n";
+  std::cout << "skipped frames:        " << s.skipped << " (could not be read; --bad-frames " << o.bad_frames
+            << ")\n";
   std::cout << "output:                " << o.output << std::endl;
 }
 
@@ -273,55 +368,68 @@ run (int argc, char **argv)
   app.add_option ("-j,--threads", o.threads, "threads (0: all)")->capture_default_str ();
   app.add_flag ("--ascii", o.ascii, "write ASCII PCD (9 significant digits: exact) instead of binary");
   app.add_flag ("-q,--quiet", o.quiet, "no progress lines");
+  app.add_option ("--bad-frames", o.bad_frames,
+                  "a frame of a recording or PCD folder that cannot be read (corrupt, truncated, wrong size): "
+                  "skip (warn on stderr, count in the summary) or fail (exit 2)")
+      ->check (CLI::IsMember ({"skip", "fail"}))
+      ->capture_default_str ();
   if (!pcl_texlet_app::parseCommandLine (app, argc, argv))
     return 0;
 
-  try
-  {
-    o.params.fit = pcl::texlet::planeFitMethodFromString (o.fit);
-    o.params.uncertainty = pcl::texlet::uncertaintyMethodFromString (o.uncertainty);
-    o.params.ransac_threshold = o.threshold_mm * 1e-3;
-    pcl::texlet::validate (o.params);
-    if (!o.noise_model.empty ())
-      o.noise = pcl::texlet::loadNoiseModelYaml (o.noise_model);
-    if (o.threads > 1024)
-      throw InputError ("--threads " + std::to_string (o.threads) + " is not a sensible thread count");
-    Extractor ex (o);
+  o.params.fit = pcl::texlet::planeFitMethodFromString (o.fit);
+  o.params.uncertainty = pcl::texlet::uncertaintyMethodFromString (o.uncertainty);
+  o.params.ransac_threshold = o.threshold_mm * 1e-3;
+  pcl::texlet::validate (o.params);
+  if (!o.noise_model.empty ())
+    o.noise = pcl::texlet::loadNoiseModelYaml (o.noise_model);
+  if (o.threads > 1024)
+    throw InputError ("--threads " + std::to_string (o.threads) + " is not a sensible thread count");
+  Extractor ex (o);
+  const bool skip = o.bad_frames == "skip";
 
-    std::string extension = fs::path (o.input).extension ().string ();
-    std::transform (extension.begin (), extension.end (), extension.begin (), [] (unsigned char c) { return std::tolower (c); });
-    if (fs::is_directory (o.input) || extension == ".oni")
+  std::string extension = fs::path (o.input).extension ().string ();
+  std::transform (extension.begin (), extension.end (), extension.begin (), [] (unsigned char c) { return std::tolower (c); });
+  if (fs::is_directory (o.input) || extension == ".oni")
+  {
+    if (fs::exists (o.output) && !fs::is_directory (o.output))
+      throw InputError ("OUTPUT '" + o.output + "' must be a folder when INPUT is a folder or an .oni file");
+    // Inputs are checked before the output folder is made; a folder this run made goes again
+    // if the run fails.
+    const pcl::texlet::RecordingKind kind = pcl::texlet::recordingKind (o.input);
+    pcl_texlet_app::FolderGuard made (fs::exists (o.output) ? fs::path () : fs::path (o.output));
+    std::size_t frames = 0;
+    if (kind == pcl::texlet::RecordingKind::pcd_folder)
     {
-      if (fs::exists (o.output) && !fs::is_directory (o.output))
-        throw InputError ("OUTPUT '" + o.output + "' must be a folder when INPUT is a folder or an .oni file");
-      // Inputs are checked before the output folder is made.
-      const pcl::texlet::RecordingKind kind = pcl::texlet::recordingKind (o.input);
-      if (kind == pcl::texlet::RecordingKind::pcd_folder)
-      {
-        // The clouds themselves, not depth re-projected: their points and any camera stay exact.
-        const auto files = pcl::texlet::PcdFolderReader::listPcdFiles (o.input);
-        fs::create_directories (o.output);
-        extractPcdFolder (ex, files, o.output);
-      }
-      else
-      {
-        const pcl::texlet::RecordingReader::Ptr reader = pcl::texlet::openRecording (o.input);
-        fs::create_directories (o.output);
-        extractRecording (ex, *reader, kind, o.input, o.output);
-      }
+      // The clouds themselves, not depth re-projected: their points and any camera stay exact.
+      const auto files = pcl::texlet::PcdFolderReader::listPcdFiles (o.input);
+      frames = files.size ();
+      fs::create_directories (o.output);
+      ex.noteSkipped (extractPcdFolder (ex, files, o.output, skip));
     }
     else
     {
-      if (!fs::exists (fs::absolute (o.output).parent_path ()))
-        throw InputError ("the folder that should hold OUTPUT '" + o.output + "' does not exist");
-      extractPcd (ex, o.input, o.output);
+      pcl::texlet::RecordingReader::Ptr reader = pcl::texlet::openRecording (o.input);
+      frames = reader->size ();
+      std::shared_ptr<pcl::texlet::FrameSkippingReader> skipping;
+      if (skip)
+        reader = skipping = std::make_shared<pcl::texlet::FrameSkippingReader> (reader, warnSkipped);
+      fs::create_directories (o.output);
+      extractRecording (ex, *reader, kind, o.input, o.output);
+      if (skipping)
+        ex.noteSkipped (skipping->skipped ());
     }
-    printSummary (ex.summary (), o);
+    if (ex.summary ().frames == 0)
+      throw InputError ("no frame of '" + o.input + "' could be read (" + std::to_string (frames) +
+                        " skipped; see the warnings)");
+    made.release ();
   }
-  catch (const pcl::PCLException &e)
+  else
   {
-    throw InputError (pclMessage (e.what ()));
+    if (!fs::exists (fs::absolute (o.output).parent_path ()))
+      throw InputError ("the folder that should hold OUTPUT '" + o.output + "' does not exist");
+    extractPcd (ex, loadPcd (o.input), o.input, o.output);
   }
+  printSummary (ex.summary (), o);
   return 0;
 }
 

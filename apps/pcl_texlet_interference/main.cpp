@@ -40,7 +40,6 @@ namespace fs = std::filesystem;
 using namespace pcl::texlet;
 using nlohmann::json;
 using pcl_texlet_app::InputError;
-using pcl_texlet_app::pclMessage;
 using pcl_texlet_interference::CellResult;
 
 namespace
@@ -222,162 +221,155 @@ run (int argc, char **argv)
   if (!o.no_plots && !gnuplotAvailable ())
     throw InputError ("gnuplot with the pngcairo terminal is not available (install gnuplot, or use --no-plots)");
 
-  try
+  KnownObject object;
+  SimulatedSetup sim;
+  json setup;
+  if (o.simulate)
   {
-    KnownObject object;
-    SimulatedSetup sim;
-    json setup;
+    sim.width = o.width;
+    sim.height = o.height;
+    sim.distance_m = o.distance;
+    sim.elevation_deg = o.elevation;
+    sim.plate_m = 1e-3 * o.plate_mm;
+    sim.interference.noise_gain = o.noise_gain;
+    sim.interference.dropout_rate = o.dropout_rate;
+    sim.seed = o.seed;
+    sim.frames = o.frames;
+    sim.threads = o.threads;
+    object = simulatedObject (sim);
+    setup = {{"source", "simulated"},
+             {"sensors", 3},
+             {"image", {o.width, o.height}},
+             {"distance_m", o.distance},
+             {"elevation_deg", o.elevation},
+             {"plate_mm", o.plate_mm},
+             {"interference", {{"noise_gain", o.noise_gain}, {"dropout_rate", o.dropout_rate}}},
+             {"seed", o.seed}};
+  }
+  else
+  {
+    object = paperBoxObject ();
+    setup = {{"source", "recordings"}, {"recordings", o.recordings}};
+    if (!o.extrinsics.empty ())
+      setup["extrinsics"] = fs::absolute (o.extrinsics).string ();
+  }
+  if (!o.object.empty ())
+  {
+    object = loadKnownObjectYaml (o.object);
+    setup["object_file"] = fs::absolute (o.object).string ();
+  }
+  if (!std::isnan (o.angle_tol))
+    object.angle_tol_deg = o.angle_tol;
+  if (!std::isnan (o.distance_tol_mm))
+    object.distance_tol_m = 1e-3 * o.distance_tol_mm;
+  setup["frames_per_sensor"] = o.frames;
+  setup["spacing_px"] = o.spacing;
+  setup["radii_px"] = o.radii;
+
+  std::vector<SensorExtrinsics> extrinsics;
+  if (!o.extrinsics.empty ())
+    extrinsics = loadExtrinsicsYaml (o.extrinsics);
+
+  RelationParameters rel;
+  rel.axes.distance_max = static_cast<float> (1e-3 * o.max_distance_mm);
+  rel.axes.distance_bins = static_cast<int> (std::lround (o.max_distance_mm / o.distance_bin_mm));
+  rel.axes.angle_bins = static_cast<int> (std::lround (180.0 / o.angle_bin_deg));
+  rel.threads = o.threads;
+
+  // Recordings first, so bad input fails before any long computation.
+  std::vector<std::pair<int, std::vector<SensorRecording>>> sets;
+  if (!o.simulate)
+    for (std::size_t k = 0; k < o.recordings.size (); ++k)
+    {
+      int p = o.projectors.empty () ? 0 : o.projectors[k];
+      if (p == 0)
+        for (const auto &folder : o.recordings[k])
+          p = std::max (p, projectorsFromMetaYaml ((fs::path (folder) / "meta.yaml").string (), 1));
+      sets.emplace_back (p, loadSensorRecordings (o.recordings[k], extrinsics, o.frames));
+    }
+
+  const fs::path tmp = out.parent_path () / ("." + out.filename ().string () + ".tmp-" + std::to_string (::getpid ()));
+  fs::remove_all (tmp, ec);
+  if (!fs::create_directory (tmp, ec))
+    throw pcl::IOException ("cannot create the temporary folder '" + tmp.string () + "': " + ec.message ());
+  FolderGuard guard (tmp);
+
+  const std::vector<int> projector_counts = o.simulate ? o.projectors : std::vector<int> ();
+  const std::size_t set_count = o.simulate ? projector_counts.size () : sets.size ();
+  std::vector<CellResult> results;
+  for (std::size_t k = 0; k < set_count; ++k)
+  {
+    int projectors = 0;
+    std::vector<SensorRecording> recordings;
     if (o.simulate)
     {
-      sim.width = o.width;
-      sim.height = o.height;
-      sim.distance_m = o.distance;
-      sim.elevation_deg = o.elevation;
-      sim.plate_m = 1e-3 * o.plate_mm;
-      sim.interference.noise_gain = o.noise_gain;
-      sim.interference.dropout_rate = o.dropout_rate;
-      sim.seed = o.seed;
-      sim.frames = o.frames;
-      sim.threads = o.threads;
-      object = simulatedObject (sim);
-      setup = {{"source", "simulated"},
-               {"sensors", 3},
-               {"image", {o.width, o.height}},
-               {"distance_m", o.distance},
-               {"elevation_deg", o.elevation},
-               {"plate_mm", o.plate_mm},
-               {"interference", {{"noise_gain", o.noise_gain}, {"dropout_rate", o.dropout_rate}}},
-               {"seed", o.seed}};
+      projectors = projector_counts[k];
+      if (!o.quiet)
+        std::cout << "simulating 3 sensors with " << projectors << " active projector(s) ..." << std::endl;
+      recordings = simulateInterferenceRecordings (sim, projectors);
     }
     else
     {
-      object = paperBoxObject ();
-      setup = {{"source", "recordings"}, {"recordings", o.recordings}};
-      if (!o.extrinsics.empty ())
-        setup["extrinsics"] = fs::absolute (o.extrinsics).string ();
+      projectors = sets[k].first;
+      recordings = std::move (sets[k].second);
     }
-    if (!o.object.empty ())
+    for (int radius : o.radii)
     {
-      object = loadKnownObjectYaml (o.object);
-      setup["object_file"] = fs::absolute (o.object).string ();
+      const auto t0 = std::chrono::steady_clock::now ();
+      CellResult r;
+      r.cell = runInterferenceCell (recordings, projectors, studyTexletParameters (radius, o.spacing), object, rel);
+      r.seconds = std::chrono::duration<double> (std::chrono::steady_clock::now () - t0).count ();
+      const bool draw = !o.no_plots && (o.histogram_radii.empty () || std::find (o.histogram_radii.begin (),
+                                                                                 o.histogram_radii.end (), radius) !=
+                                                                          o.histogram_radii.end ());
+      if (draw)
+      {
+        r.histogram_png = cellName (projectors, radius);
+        writeRelationHistogramPng (r.cell.statistics, (tmp / r.histogram_png).string (),
+                                   std::to_string (projectors) + " active projector" + (projectors > 1 ? "s" : "") +
+                                       ", radius " + std::to_string (radius) + " px");
+      }
+      if (!o.quiet)
+        std::cout << "  projectors " << projectors << ", radius " << std::setw (2) << radius << ": "
+                  << std::setw (6) << r.cell.statistics.texlets << " texlets, " << std::fixed << std::setprecision (1)
+                  << r.cell.statistics.inlierPercent () << " % inliers (" << std::setprecision (2) << r.seconds
+                  << " s)" << std::defaultfloat << std::endl;
+      results.push_back (std::move (r));
     }
-    if (!std::isnan (o.angle_tol))
-      object.angle_tol_deg = o.angle_tol;
-    if (!std::isnan (o.distance_tol_mm))
-      object.distance_tol_m = 1e-3 * o.distance_tol_mm;
-    setup["frames_per_sensor"] = o.frames;
-    setup["spacing_px"] = o.spacing;
-    setup["radii_px"] = o.radii;
-
-    std::vector<SensorExtrinsics> extrinsics;
-    if (!o.extrinsics.empty ())
-      extrinsics = loadExtrinsicsYaml (o.extrinsics);
-
-    RelationParameters rel;
-    rel.axes.distance_max = static_cast<float> (1e-3 * o.max_distance_mm);
-    rel.axes.distance_bins = static_cast<int> (std::lround (o.max_distance_mm / o.distance_bin_mm));
-    rel.axes.angle_bins = static_cast<int> (std::lround (180.0 / o.angle_bin_deg));
-    rel.threads = o.threads;
-
-    // Recordings first, so bad input fails before any long computation.
-    std::vector<std::pair<int, std::vector<SensorRecording>>> sets;
-    if (!o.simulate)
-      for (std::size_t k = 0; k < o.recordings.size (); ++k)
-      {
-        int p = o.projectors.empty () ? 0 : o.projectors[k];
-        if (p == 0)
-          for (const auto &folder : o.recordings[k])
-            p = std::max (p, projectorsFromMetaYaml ((fs::path (folder) / "meta.yaml").string (), 1));
-        sets.emplace_back (p, loadSensorRecordings (o.recordings[k], extrinsics, o.frames));
-      }
-
-    const fs::path tmp = out.parent_path () / ("." + out.filename ().string () + ".tmp-" + std::to_string (::getpid ()));
-    fs::remove_all (tmp, ec);
-    if (!fs::create_directory (tmp, ec))
-      throw pcl::IOException ("cannot create the temporary folder '" + tmp.string () + "': " + ec.message ());
-    FolderGuard guard (tmp);
-
-    const std::vector<int> projector_counts = o.simulate ? o.projectors : std::vector<int> ();
-    const std::size_t set_count = o.simulate ? projector_counts.size () : sets.size ();
-    std::vector<CellResult> results;
-    for (std::size_t k = 0; k < set_count; ++k)
-    {
-      int projectors = 0;
-      std::vector<SensorRecording> recordings;
-      if (o.simulate)
-      {
-        projectors = projector_counts[k];
-        if (!o.quiet)
-          std::cout << "simulating 3 sensors with " << projectors << " active projector(s) ..." << std::endl;
-        recordings = simulateInterferenceRecordings (sim, projectors);
-      }
-      else
-      {
-        projectors = sets[k].first;
-        recordings = std::move (sets[k].second);
-      }
-      for (int radius : o.radii)
-      {
-        const auto t0 = std::chrono::steady_clock::now ();
-        CellResult r;
-        r.cell = runInterferenceCell (recordings, projectors, studyTexletParameters (radius, o.spacing), object, rel);
-        r.seconds = std::chrono::duration<double> (std::chrono::steady_clock::now () - t0).count ();
-        const bool draw = !o.no_plots && (o.histogram_radii.empty () || std::find (o.histogram_radii.begin (),
-                                                                                   o.histogram_radii.end (), radius) !=
-                                                                            o.histogram_radii.end ());
-        if (draw)
-        {
-          r.histogram_png = cellName (projectors, radius);
-          writeRelationHistogramPng (r.cell.statistics, (tmp / r.histogram_png).string (),
-                                     std::to_string (projectors) + " active projector" + (projectors > 1 ? "s" : "") +
-                                         ", radius " + std::to_string (radius) + " px");
-        }
-        if (!o.quiet)
-          std::cout << "  projectors " << projectors << ", radius " << std::setw (2) << radius << ": "
-                    << std::setw (6) << r.cell.statistics.texlets << " texlets, " << std::fixed << std::setprecision (1)
-                    << r.cell.statistics.inlierPercent () << " % inliers (" << std::setprecision (2) << r.seconds
-                    << " s)" << std::defaultfloat << std::endl;
-        results.push_back (std::move (r));
-      }
-    }
-
-    // Fig. 13: one curve per projector count.
-    std::string curves_png;
-    if (!o.no_plots)
-    {
-      std::map<int, InlierCurve> curves;
-      for (const auto &r : results)
-      {
-        InlierCurve &c = curves[r.cell.projectors];
-        c.label = std::to_string (r.cell.projectors) + " active projector" + (r.cell.projectors > 1 ? "s" : "");
-        c.radius_px.push_back (r.cell.radius);
-        c.percent.push_back (r.cell.statistics.inlierPercent ());
-      }
-      std::vector<InlierCurve> list;
-      for (auto &kv : curves)
-        list.push_back (kv.second);
-      curves_png = "inliers_vs_radius.png";
-      writeInlierCurvesPng (list, (tmp / curves_png).string (), "Inlier relations against neighbourhood radius");
-    }
-
-    const json j = pcl_texlet_interference::studyJson (setup, object, results);
-    writeText (tmp / "inliers.json", j.dump (2) + "\n");
-    writeText (tmp / "report.html", pcl_texlet_interference::studyHtml (j, tmp.string (), curves_png));
-
-    if (fs::exists (out, ec))
-      throw pcl::IOException ("OUTPUT '" + o.output + "' appeared while writing; not replaced");
-    fs::rename (tmp, out, ec);
-    if (ec)
-      throw pcl::IOException ("cannot rename '" + tmp.string () + "' onto '" + o.output + "': " + ec.message ());
-    guard.release ();
-    if (!o.quiet)
-      std::cout << "output: " << o.output << " (inliers.json, report.html"
-                << (o.no_plots ? "" : ", histogram_p*_r*.png, inliers_vs_radius.png") << ")" << std::endl;
   }
-  catch (const pcl::PCLException &e)
+
+  // Fig. 13: one curve per projector count.
+  std::string curves_png;
+  if (!o.no_plots)
   {
-    throw InputError (pclMessage (e.what ()));
+    std::map<int, InlierCurve> curves;
+    for (const auto &r : results)
+    {
+      InlierCurve &c = curves[r.cell.projectors];
+      c.label = std::to_string (r.cell.projectors) + " active projector" + (r.cell.projectors > 1 ? "s" : "");
+      c.radius_px.push_back (r.cell.radius);
+      c.percent.push_back (r.cell.statistics.inlierPercent ());
+    }
+    std::vector<InlierCurve> list;
+    for (auto &kv : curves)
+      list.push_back (kv.second);
+    curves_png = "inliers_vs_radius.png";
+    writeInlierCurvesPng (list, (tmp / curves_png).string (), "Inlier relations against neighbourhood radius");
   }
+
+  const json j = pcl_texlet_interference::studyJson (setup, object, results);
+  writeText (tmp / "inliers.json", j.dump (2) + "\n");
+  writeText (tmp / "report.html", pcl_texlet_interference::studyHtml (j, tmp.string (), curves_png));
+
+  if (fs::exists (out, ec))
+    throw pcl::IOException ("OUTPUT '" + o.output + "' appeared while writing; not replaced");
+  fs::rename (tmp, out, ec);
+  if (ec)
+    throw pcl::IOException ("cannot rename '" + tmp.string () + "' onto '" + o.output + "': " + ec.message ());
+  guard.release ();
+  if (!o.quiet)
+    std::cout << "output: " << o.output << " (inliers.json, report.html"
+              << (o.no_plots ? "" : ", histogram_p*_r*.png, inliers_vs_radius.png") << ")" << std::endl;
   return 0;
 }
 

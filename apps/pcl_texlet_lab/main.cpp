@@ -9,6 +9,9 @@
  * Exit codes: 0 success, 2 bad input or options (one line on stderr), 1 unexpected failure.
  */
 #include "../common/app_main.h"
+#include "evenly_spaced_frames.h"
+#include <pcl_texlet/frame_skipping_reader.h>
+#include <pcl_texlet/recording_readers.h>
 #include <pcl_texlet/lab/lab_report.h>
 #include <pcl_texlet/lab/model_lab.h>
 #include <pcl_texlet/noise_model_io.h>
@@ -19,12 +22,13 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
 
 using pcl_texlet_app::InputError;
-using pcl_texlet_app::pclMessage;
 namespace lab = pcl::texlet::lab;
 
 namespace
@@ -43,6 +47,35 @@ texletText (const lab::LabMetrics &m)
   return s.str ();
 }
 
+/** Measures one recording, streaming: at most \a max_frames evenly spaced frames are kept, and
+  * frames that cannot be read are skipped (counted in \a skipped) when \a skip.
+  */
+lab::RecordingMeasurement::Ptr
+measure (const std::string &path, std::size_t max_frames, bool skip, std::size_t &skipped)
+{
+  pcl::texlet::RecordingReader::Ptr reader = pcl::texlet::openRecording (path);
+  std::shared_ptr<pcl::texlet::FrameSkippingReader> skipping;
+  if (skip)
+    reader = skipping = std::make_shared<pcl::texlet::FrameSkippingReader> (reader, [] (const std::string &m) {
+      std::cerr << kName << ": warning: skipped a frame that cannot be read: " << m << std::endl;
+    });
+  pcl_texlet_app::EvenlySpacedFrames kept (reader, max_frames);
+  std::string meta;
+  const std::filesystem::path meta_path = std::filesystem::path (path) / "meta.yaml";
+  std::error_code ec;
+  if (std::filesystem::is_regular_file (meta_path, ec))
+  {
+    std::ifstream in (meta_path);
+    std::stringstream text;
+    text << in.rdbuf ();
+    meta = text.str ();
+  }
+  auto m = lab::measureRecording (kept, path, meta);
+  if (skipping)
+    skipped += skipping->skipped ();
+  return m;
+}
+
 int
 run (int argc, char **argv)
 {
@@ -51,6 +84,8 @@ run (int argc, char **argv)
   int auto_count = 0, replicates = 5, threads = 0;
   unsigned seed = 1;
   bool quiet = false;
+  std::size_t max_frames = 200;
+  std::string bad_frames = "skip";
   CLI::App app ("pcl_texlet_lab: compare the noise model with recordings, rank the missing physical effects, add "
                 "them and refit");
   app.add_option ("--model", model_arg, "starting model: 'paper' (Eq. 4) or a noise-model YAML file")
@@ -67,6 +102,16 @@ run (int argc, char **argv)
   app.add_option ("--seed", seed, "seed of the bootstrap")->capture_default_str ();
   app.add_option ("-j,--threads", threads, "threads (0: all)")->capture_default_str ();
   app.add_flag ("-q,--quiet", quiet, "no progress on stderr");
+  app.add_option ("--max-frames", max_frames,
+                  "frames kept per recording, evenly spaced over it (the rest are read and dropped: memory stays "
+                  "bounded however long the recording)")
+      ->check (CLI::Range (std::size_t (2), std::size_t (65535)))
+      ->capture_default_str ();
+  app.add_option ("--bad-frames", bad_frames,
+                  "a frame that cannot be read (corrupt, truncated, wrong size): skip (warn on stderr, count in "
+                  "report.json) or fail (exit 2)")
+      ->check (CLI::IsMember ({"skip", "fail"}))
+      ->capture_default_str ();
   app.add_option ("RECORDING", recordings, "recordings: recording folders, PCD folders, grabber TIFF folders, .oni");
   if (!pcl_texlet_app::parseCommandLine (app, argc, argv))
     return 0;
@@ -99,48 +144,47 @@ run (int argc, char **argv)
     settings.progress = [&] (const std::string &line) {
       std::cerr << "[" << std::fixed << std::setprecision (1) << elapsed () << " s] " << line << std::endl;
     };
-  try
+  pcl::texlet::NoiseModel start =
+      model_arg == "paper" ? pcl::texlet::NoiseModel::paper () : pcl::texlet::loadNoiseModelYaml (model_arg);
+  for (const auto &a : adds)
+    if (start.find (a))
+      throw InputError ("--add " + a + ": the starting model already has this effect");
+  lab::ModelLab lab (settings);
+  std::size_t skipped = 0;
+  for (const auto &path : recordings)
   {
-    pcl::texlet::NoiseModel start =
-        model_arg == "paper" ? pcl::texlet::NoiseModel::paper () : pcl::texlet::loadNoiseModelYaml (model_arg);
-    for (const auto &a : adds)
-      if (start.find (a))
-        throw InputError ("--add " + a + ": the starting model already has this effect");
-    lab::ModelLab lab (settings);
-    for (const auto &path : recordings)
-    {
-      if (settings.progress)
-        settings.progress ("lab: measuring " + path);
-      lab.addRecording (lab::measureRecording (path));
-    }
-    const lab::LabSession session = lab::runLabSession (lab, start, model_arg, adds, auto_count);
-    lab::writeLabReport (lab, session, report);
-    if (!quiet)
-    {
-      std::cout << "start (" << model_arg << "): sd_rmse " << session.start_metrics.sd_rmse_mm << " mm, bias_rmse "
-                << session.start_metrics.bias_rmse_mm << " mm, nll " << session.start_metrics.nll
-                << texletText (session.start_metrics) << "\n";
-      for (std::size_t k = 0; k < session.candidates.size (); ++k)
-      {
-        const auto &c = session.candidates[k];
-        std::cout << "  candidate " << k + 1 << ": " << c.effect;
-        if (c.applicable)
-          std::cout << " gain " << c.gain << " (threshold " << c.threshold << ")"
-                    << (c.significant ? " significant" : "");
-        else
-          std::cout << " not testable (" << c.note << ")";
-        std::cout << "\n";
-      }
-      for (const auto &st : session.steps)
-        std::cout << "+ " << st.added << ": sd_rmse " << st.metrics.sd_rmse_mm << " mm, bias_rmse "
-                  << st.metrics.bias_rmse_mm << " mm, nll " << st.metrics.nll << texletText (st.metrics) << "\n";
-      std::cout << "report: " << report << "/report.html (" << std::fixed << std::setprecision (1) << elapsed ()
-                << " s)" << std::endl;
-    }
+    if (settings.progress)
+      settings.progress ("lab: measuring " + path);
+    lab.addRecording (measure (path, max_frames, bad_frames == "skip", skipped));
   }
-  catch (const pcl::PCLException &e)
+  lab::LabSession session = lab::runLabSession (lab, start, model_arg, adds, auto_count);
+  session.skipped_frames = skipped;
+  if (skipped > 0)
+    session.notes.push_back (std::to_string (skipped) + " frame(s) could not be read and were skipped "
+                             "(--bad-frames skip; the warnings name them)");
+  lab::writeLabReport (lab, session, report);
+  if (!quiet)
   {
-    throw InputError (pclMessage (e.what ()));
+    std::cout << "start (" << model_arg << "): sd_rmse " << session.start_metrics.sd_rmse_mm << " mm, bias_rmse "
+              << session.start_metrics.bias_rmse_mm << " mm, nll " << session.start_metrics.nll
+              << texletText (session.start_metrics) << "\n";
+    for (std::size_t k = 0; k < session.candidates.size (); ++k)
+    {
+      const auto &c = session.candidates[k];
+      std::cout << "  candidate " << k + 1 << ": " << c.effect;
+      if (c.applicable)
+        std::cout << " gain " << c.gain << " (threshold " << c.threshold << ")"
+                  << (c.significant ? " significant" : "");
+      else
+        std::cout << " not testable (" << c.note << ")";
+      std::cout << "\n";
+    }
+    for (const auto &st : session.steps)
+      std::cout << "+ " << st.added << ": sd_rmse " << st.metrics.sd_rmse_mm << " mm, bias_rmse "
+                << st.metrics.bias_rmse_mm << " mm, nll " << st.metrics.nll << texletText (st.metrics) << "\n";
+    std::cout << "skipped frames: " << skipped << "\n";
+    std::cout << "report: " << report << "/report.html (" << std::fixed << std::setprecision (1) << elapsed ()
+              << " s)" << std::endl;
   }
   return 0;
 }

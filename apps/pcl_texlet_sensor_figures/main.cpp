@@ -44,7 +44,6 @@ using namespace pcl::texlet;
 using namespace pcl::texlet::sim;
 
 using pcl_texlet_app::InputError;
-using pcl_texlet_app::pclMessage;
 
 namespace
 {
@@ -1204,23 +1203,16 @@ run (int argc, char **argv)
       throw InputError ("cannot create OUTPUT '" + o.output + "': " + ec.message ());
   }
 
-  try
+  FigureMaker maker (o, out);
+  for (std::size_t k = 0; k < todo.size (); ++k)
   {
-    FigureMaker maker (o, out);
-    for (std::size_t k = 0; k < todo.size (); ++k)
-    {
-      if (!o.quiet)
-        std::cout << "[" << k + 1 << "/" << todo.size () << "] " << todo[k] << std::endl;
-      maker.make (todo[k]);
-    }
-    maker.writeSummary ();
     if (!o.quiet)
-      std::cout << "data files and summary.txt in " << o.output << std::endl;
+      std::cout << "[" << k + 1 << "/" << todo.size () << "] " << todo[k] << std::endl;
+    maker.make (todo[k]);
   }
-  catch (const pcl::PCLException &e)
-  {
-    throw InputError (pclMessage (e.what ()));
-  }
+  maker.writeSummary ();
+  if (!o.quiet)
+    std::cout << "data files and summary.txt in " << o.output << std::endl;
   return 0;
 }
 

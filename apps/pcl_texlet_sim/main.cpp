@@ -36,7 +36,6 @@ namespace fs = std::filesystem;
 using namespace pcl::texlet::sim;
 
 using pcl_texlet_app::InputError;
-using pcl_texlet_app::pclMessage;
 
 namespace
 {
@@ -273,64 +272,57 @@ run (int argc, char **argv)
   if (!fs::is_directory (out.parent_path (), ec))
     throw InputError ("the folder that should hold OUTPUT '" + o.output + "' does not exist");
 
-  try
+  SceneSetup setup = makeSetup (o, app);
+  placeSensors (o, setup);
+  const SimulationSettings settings = makeSettings (o, app);
+  const DepthSensor model = makeSensor (o);
+  const auto t0 = std::chrono::steady_clock::now ();
+  const KinectSimulator sim (setup.scene, setup.sensors (model), settings, o.threads);
+
+  std::vector<std::size_t> sensors;
+  if (record >= 0)
+    sensors.push_back (static_cast<std::size_t> (record));
+  else
+    for (std::size_t k = 0; k < sim.sensorCount (); ++k)
+      sensors.push_back (k);
+
+  if (sensors.size () == 1 && record >= 0)
+    writeSimulatedRecording (sim, setup, sensors[0], 0, o.frames, out.string ());
+  else
   {
-    SceneSetup setup = makeSetup (o, app);
-    placeSensors (o, setup);
-    const SimulationSettings settings = makeSettings (o, app);
-    const DepthSensor model = makeSensor (o);
-    const auto t0 = std::chrono::steady_clock::now ();
-    const KinectSimulator sim (setup.scene, setup.sensors (model), settings, o.threads);
-
-    std::vector<std::size_t> sensors;
-    if (record >= 0)
-      sensors.push_back (static_cast<std::size_t> (record));
-    else
-      for (std::size_t k = 0; k < sim.sensorCount (); ++k)
-        sensors.push_back (k);
-
-    if (sensors.size () == 1 && record >= 0)
-      writeSimulatedRecording (sim, setup, sensors[0], 0, o.frames, out.string ());
-    else
-    {
-      // Several recordings: all of them inside one temporary folder renamed at the end.
-      const fs::path tmp = out.parent_path () / ("." + out.filename ().string () + ".tmp-" + std::to_string (::getpid ()));
-      fs::remove_all (tmp, ec);
-      if (!fs::create_directory (tmp, ec))
-        throw pcl::IOException ("cannot create the temporary folder '" + tmp.string () + "': " + ec.message ());
-      FolderGuard guard (tmp);
-      for (const std::size_t k : sensors)
-        writeSimulatedRecording (sim, setup, k, 0, o.frames, (tmp / ("sensor_" + std::to_string (k))).string ());
-      if (fs::exists (out, ec))
-        throw pcl::IOException ("OUTPUT '" + o.output + "' appeared while writing; not replaced");
-      fs::rename (tmp, out, ec);
-      if (ec)
-        throw pcl::IOException ("cannot rename '" + tmp.string () + "' onto '" + o.output + "': " + ec.message ());
-      guard.release ();
-    }
-    const double seconds = std::chrono::duration<double> (std::chrono::steady_clock::now () - t0).count ();
-
-    if (!o.quiet)
-    {
-      const auto active = enabledEffects (settings.effects);
-      std::string effects;
-      for (const auto &e : active)
-        effects += (effects.empty () ? "" : ", ") + e;
-      std::cout << std::fixed << std::setprecision (2);
-      std::cout << "scene:       " << setup.kind << " (" << o.scene << ")\n"
-                << "sensors:     " << sim.sensorCount () << " (" << sim.activeProjectors () << " active projectors), "
-                << "recorded: " << (record >= 0 ? std::to_string (record) : std::string ("all")) << "\n"
-                << "image:       " << model.width << "x" << model.height << ", fx " << model.fx << " px, baseline "
-                << std::defaultfloat << model.baseline_m << std::fixed << " m\n"
-                << "noise:       base " << (settings.base_noise ? "paper polynomial" : "none") << "; effects: "
-                << (effects.empty () ? "none" : effects) << "\n"
-                << "frames:      " << o.frames << " per sensor, seed " << o.seed << ", " << seconds << " s\n"
-                << "output:      " << o.output << std::endl;
-    }
+    // Several recordings: all of them inside one temporary folder renamed at the end.
+    const fs::path tmp = out.parent_path () / ("." + out.filename ().string () + ".tmp-" + std::to_string (::getpid ()));
+    fs::remove_all (tmp, ec);
+    if (!fs::create_directory (tmp, ec))
+      throw pcl::IOException ("cannot create the temporary folder '" + tmp.string () + "': " + ec.message ());
+    FolderGuard guard (tmp);
+    for (const std::size_t k : sensors)
+      writeSimulatedRecording (sim, setup, k, 0, o.frames, (tmp / ("sensor_" + std::to_string (k))).string ());
+    if (fs::exists (out, ec))
+      throw pcl::IOException ("OUTPUT '" + o.output + "' appeared while writing; not replaced");
+    fs::rename (tmp, out, ec);
+    if (ec)
+      throw pcl::IOException ("cannot rename '" + tmp.string () + "' onto '" + o.output + "': " + ec.message ());
+    guard.release ();
   }
-  catch (const pcl::PCLException &e)
+  const double seconds = std::chrono::duration<double> (std::chrono::steady_clock::now () - t0).count ();
+
+  if (!o.quiet)
   {
-    throw InputError (pclMessage (e.what ()));
+    const auto active = enabledEffects (settings.effects);
+    std::string effects;
+    for (const auto &e : active)
+      effects += (effects.empty () ? "" : ", ") + e;
+    std::cout << std::fixed << std::setprecision (2);
+    std::cout << "scene:       " << setup.kind << " (" << o.scene << ")\n"
+              << "sensors:     " << sim.sensorCount () << " (" << sim.activeProjectors () << " active projectors), "
+              << "recorded: " << (record >= 0 ? std::to_string (record) : std::string ("all")) << "\n"
+              << "image:       " << model.width << "x" << model.height << ", fx " << model.fx << " px, baseline "
+              << std::defaultfloat << model.baseline_m << std::fixed << " m\n"
+              << "noise:       base " << (settings.base_noise ? "paper polynomial" : "none") << "; effects: "
+              << (effects.empty () ? "none" : effects) << "\n"
+              << "frames:      " << o.frames << " per sensor, seed " << o.seed << ", " << seconds << " s\n"
+              << "output:      " << o.output << std::endl;
   }
   return 0;
 }

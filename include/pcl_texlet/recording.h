@@ -19,6 +19,11 @@ namespace pcl
 namespace texlet
 {
 
+/** \brief The largest image side the readers accept, pixels: beyond any depth sensor's, so a
+  * larger size in a header or camera.yaml is corruption, refused before memory is allocated.
+  */
+constexpr int kMaxImageSide = 16384;
+
 /** \brief Intrinsics of a depth image, as in a ROS camera_info YAML file (camera.yaml). */
 struct CameraInfo
 {
@@ -93,7 +98,8 @@ public:
 
   /** \brief Read the next frame; false at the end.
     * \throws pcl::IOException for a bad frame (unreadable, wrong bit depth, size differing from
-    *         camera.yaml), naming the file.
+    *         camera.yaml), naming the file. Every reader moves past the bad frame before it
+    *         throws, so that the caller may go on with the next one (FrameSkippingReader does).
     */
   virtual bool
   next (DepthFrame &frame) = 0;

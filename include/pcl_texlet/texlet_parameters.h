@@ -19,12 +19,12 @@ struct TexletParameters
 {
   int spacing = 6;                 ///< hexagonal grid spacing, pixels (>= 2)
   int radius = 6;                  ///< neighbourhood disc radius, pixels
-  int ransac_iterations = 20;      ///< RANSAC hypotheses per texlet
+  int ransac_iterations = 20;      ///< RANSAC hypotheses per texlet (1 .. 100000)
   double ransac_threshold = 0.0;   ///< point-to-plane inlier distance, metres; 0 = from the noise model
   double threshold_sigmas = 3.0;   ///< automatic threshold = this many depth SDs at the patch
   PlaneFitMethod fit = PlaneFitMethod::PCA;
   UncertaintyMethod uncertainty = UncertaintyMethod::MonteCarlo;
-  int samples = 50;                ///< Monte Carlo samples
+  int samples = 50;                ///< Monte Carlo samples (2 .. 100000)
   std::uint32_t seed = 0;          ///< Philox key: results depend on (seed, texlet, draw) only
   int min_support = 6;             ///< fewest RANSAC inliers that make a texlet (>= 3)
   float viewpoint[3] = {0.0f, 0.0f, 0.0f}; ///< normals face this point

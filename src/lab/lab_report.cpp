@@ -373,6 +373,8 @@ labReportJson (const LabSession &s)
     steps.push_back ({{"added", st.added}, {"metrics", metricsJson (st.metrics)}, {"auto", st.from_auto},
                       {"terms", termsJson (st.model)}});
   j["steps"] = steps;
+  j["skipped_frames"] = s.skipped_frames;
+  j["notes"] = s.notes;
   return j.dump (2) + "\n";
 }
 

@@ -145,6 +145,9 @@ measureRecording (RecordingReader &reader, const std::string &name, const std::s
           << ", the recording " << m->width << "x" << m->height;
       throw pcl::BadArgumentException (msg.str ());
     }
+    // valid_frames counts in 16 bits.
+    if (m->frames == 65535)
+      throw pcl::BadArgumentException ("recording '" + name + "': more than 65535 frames; measure a subset");
     m->depth_mm.insert (m->depth_mm.end (), frame.depth_mm.begin (), frame.depth_mm.end ());
     ++m->frames;
   }

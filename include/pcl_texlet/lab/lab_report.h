@@ -36,6 +36,7 @@ struct LabSession
   std::vector<LabStep> steps;           ///< effects added, in order
   NoiseModel final_model;               ///< the last step's model, or the start refitted
   std::vector<std::string> notes;       ///< what the lab could not do, and why
+  std::size_t skipped_frames = 0;       ///< frames the caller could not read and skipped (report.json)
 };
 
 /** \brief Runs a session: rank the candidates of \a start, add \a add in order, then up to
