@@ -11,6 +11,7 @@
 #include <pcl_texlet/pinhole_model.h>
 #include <pcl_texlet/recording.h>
 #include <pcl_texlet/recording_readers.h>
+#include <pcl_texlet/openni2_device_reader.h>
 #include <pcl_texlet/noise_model_io.h>
 #include <pcl_texlet/texlet_estimation.h>
 
@@ -50,6 +51,7 @@ struct Options
   pcl::texlet::NoiseModel noise = pcl::texlet::NoiseModel::paper ();
   unsigned threads = 0;
   bool ascii = false, quiet = false;
+  std::size_t frames = 0; // frames to read: all of a recording (0), or that many of a live sensor
 };
 
 /** Running statistics for the summary. */
@@ -199,13 +201,14 @@ extractPcd (Extractor &ex, const std::string &file, const std::string &out)
 /** Every frame of a recording, back-projected with the recording's own camera. */
 void
 extractRecording (Extractor &ex, pcl::texlet::RecordingReader &reader, pcl::texlet::RecordingKind kind,
-                  const std::string &input, const std::string &out_dir)
+                  const std::string &input, const std::string &out_dir, std::size_t max_frames = 0)
 {
   const auto &info = reader.cameraInfo ();
   const auto camera = std::make_shared<pcl::texlet::PinholeModel> (pcl::texlet::PinholeModel::fromCameraInfo (info));
-  ex.setFrameCount (reader.size ());
+  const std::size_t frames = max_frames > 0 ? std::min (max_frames, reader.size ()) : reader.size ();
+  ex.setFrameCount (frames);
   pcl::texlet::DepthFrame frame;
-  while (reader.next (frame))
+  for (std::size_t read = 0; read < frames && reader.next (frame); ++read)
   {
     auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
     pcl::texlet::depthToCloud (frame, *camera, *cloud);
@@ -251,7 +254,8 @@ run (int argc, char **argv)
                 "OUTPUT: a texlet PCD file for a PCD file input, else a folder with one texlet PCD per frame.",
                 kName);
   app.add_option ("INPUT", o.input, "organised PCD file, folder of PCD files, recording folder, grabber TIFF folder, "
-                                    "or .oni file")
+                                    ".oni file, or a live OpenNI2 device: 'sensor' (the first one) or 'sensor:URI' "
+                                    "(e.g. sensor:pcltexlet:sim=plane;seed=1, docs/openni2_device.md)")
       ->required ();
   app.add_option ("OUTPUT", o.output, "texlet PCD file, or output folder for several frames")->required ();
   app.add_option ("-s,--spacing", o.params.spacing, "hexagonal grid spacing, pixels")->capture_default_str ();
@@ -271,6 +275,9 @@ run (int argc, char **argv)
   app.add_option ("--noise-model", o.noise_model,
                   "depth noise model YAML (e.g. the model.yaml pcl_texlet_lab writes; default: the paper's Eq. 4)");
   app.add_option ("-j,--threads", o.threads, "threads (0: all)")->capture_default_str ();
+  app.add_option ("--frames", o.frames, "frames to read: needed for a live sensor; the first N of a recording "
+                                        "(0: all)")
+      ->capture_default_str ();
   app.add_flag ("--ascii", o.ascii, "write ASCII PCD (9 significant digits: exact) instead of binary");
   app.add_flag ("-q,--quiet", o.quiet, "no progress lines");
   if (!pcl_texlet_app::parseCommandLine (app, argc, argv))
@@ -287,6 +294,19 @@ run (int argc, char **argv)
     if (o.threads > 1024)
       throw InputError ("--threads " + std::to_string (o.threads) + " is not a sensible thread count");
     Extractor ex (o);
+
+    if (o.input == "sensor" || o.input.rfind ("sensor:", 0) == 0)
+    {
+      if (o.frames == 0)
+        throw InputError ("a live sensor needs --frames N (how many frames to read)");
+      if (fs::exists (o.output) && !fs::is_directory (o.output))
+        throw InputError ("OUTPUT '" + o.output + "' must be a folder when INPUT is a sensor");
+      pcl::texlet::OpenNI2DeviceReader reader (o.input == "sensor" ? "" : o.input.substr (7), o.frames);
+      fs::create_directories (o.output);
+      extractRecording (ex, reader, pcl::texlet::RecordingKind::oni_file, o.input, o.output);
+      printSummary (ex.summary (), o);
+      return 0;
+    }
 
     std::string extension = fs::path (o.input).extension ().string ();
     std::transform (extension.begin (), extension.end (), extension.begin (), [] (unsigned char c) { return std::tolower (c); });
@@ -307,7 +327,7 @@ run (int argc, char **argv)
       {
         const pcl::texlet::RecordingReader::Ptr reader = pcl::texlet::openRecording (o.input);
         fs::create_directories (o.output);
-        extractRecording (ex, *reader, kind, o.input, o.output);
+        extractRecording (ex, *reader, kind, o.input, o.output, o.frames);
       }
     }
     else

@@ -38,6 +38,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <exception>
@@ -492,6 +493,33 @@ class Driver : public oni::driver::DriverBase
 {
 public:
   explicit Driver (OniDriverServices *services) : DriverBase (services) {}
+
+  /** Announces the devices of PCLTEXLET_DEVICES (URIs separated by '|'), so that programs that
+    * open the first device, or list devices before opening one (PCL's OpenNI2Grabber does), find
+    * them. Other URIs with the prefix are announced when a program opens them (tryDevice).
+    */
+  OniStatus
+  initialize (oni::driver::DeviceConnectedCallback connected, oni::driver::DeviceDisconnectedCallback disconnected,
+              oni::driver::DeviceStateChangedCallback state_changed, void *cookie) override
+  {
+    const OniStatus status = DriverBase::initialize (connected, disconnected, state_changed, cookie);
+    if (status != ONI_STATUS_OK)
+      return status;
+    if (const char *devices = std::getenv ("PCLTEXLET_DEVICES"))
+    {
+      std::string list = devices;
+      std::string::size_type start = 0;
+      while (start <= list.size ())
+      {
+        const auto end = std::min (list.find ('|', start), list.size ());
+        const std::string uri = list.substr (start, end - start);
+        if (!uri.empty ())
+          tryDevice (uri.c_str ());
+        start = end + 1;
+      }
+    }
+    return ONI_STATUS_OK;
+  }
 
   /** Announces any URI with the prefix; whether it names a source is checked by deviceOpen. */
   OniStatus
