@@ -16,6 +16,8 @@
 #include <OpenNI.h>
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -111,6 +113,9 @@ run (int argc, char **argv)
   if (recorder.create (partial.path.c_str ()) != openni::STATUS_OK || recorder.attach (depth, false) != openni::STATUS_OK ||
       (colour.isValid () && recorder.attach (colour, true) != openni::STATUS_OK) || recorder.start () != openni::STATUS_OK)
     throw InputError ("cannot record into '" + output + "': " + openniError ());
+  // Recorder::start () only queues the start for the recorder's thread, which drops frames that
+  // arrive before it has started: give it a moment before the first frame can come.
+  std::this_thread::sleep_for (std::chrono::milliseconds (200));
   if (depth.start () != openni::STATUS_OK || (colour.isValid () && colour.start () != openni::STATUS_OK))
     throw InputError ("cannot start the streams of " + device_name + ": " + openniError ());
 
@@ -123,6 +128,10 @@ run (int argc, char **argv)
     int ready = -1;
     if (openni::OpenNI::waitForAnyStream (streams, 1, &ready, static_cast<int> (timeout_s * 1000)) != openni::STATUS_OK)
     {
+      // A device that plays a recording once falls silent after its last frame, and this loop
+      // may have missed reading its first: the file's count below decides.
+      if (recorded > 0)
+        break;
       failure = "no depth frame from " + device_name + " within " + std::to_string (timeout_s) + " s after " +
                 std::to_string (recorded) + " of " + std::to_string (frames) + " frames";
       break;
@@ -135,8 +144,10 @@ run (int argc, char **argv)
     }
     if (frame.getFrameIndex () == last_index)
       continue;
+    // The recorder stores every frame the stream gets; one read may come after two of them
+    // (devices number frames consecutively), so the frames recorded are counted by index.
+    recorded += last_index >= 0 && frame.getFrameIndex () > last_index ? frame.getFrameIndex () - last_index : 1;
     last_index = frame.getFrameIndex ();
-    ++recorded;
     if (!quiet)
       std::cout << "frame " << recorded << "/" << frames << ": index " << frame.getFrameIndex () << ", "
                 << frame.getWidth () << "x" << frame.getHeight () << std::endl;
@@ -156,12 +167,29 @@ run (int argc, char **argv)
   // (its Dummy driver's do); the file is complete here and exit frees the rest.
   if (!failure.empty ())
     throw InputError (failure);
+
+  // The file's own count is the truth: the reads above can miss a frame the recorder stored.
+  int stored = -1;
+  {
+    openni::Device file;
+    openni::VideoStream stream;
+    if (file.open (partial.path.c_str ()) == openni::STATUS_OK && stream.create (file, openni::SENSOR_DEPTH) == openni::STATUS_OK &&
+        file.getPlaybackControl ())
+      stored = file.getPlaybackControl ()->getNumberOfFrames (stream);
+    if (stream.isValid ())
+      stream.destroy ();
+    if (file.isValid ())
+      file.close ();
+  }
+  if (stored < frames)
+    throw InputError ("the recording '" + output + "' holds " + std::to_string (stored) + " depth frames, not " +
+                      std::to_string (frames) + ": OpenNI2's recorder lost frames");
   fs::rename (partial.path, output, ec);
   if (ec)
     throw InputError ("cannot rename '" + partial.path + "' to '" + output + "': " + ec.message ());
   partial.keep = true;
   if (!quiet)
-    std::cout << "recorded " << recorded << " depth frames" << (had_colour ? " and their colour" : "") << " into "
+    std::cout << "recorded " << stored << " depth frames" << (had_colour ? " and their colour" : "") << " into "
               << output << std::endl;
   return 0;
 }

@@ -99,7 +99,7 @@ public:
       }
       if (frame.width != info_.width || frame.height != info_.height)
         throw pcl::IOException ("recording '" + uri_.recording + "': frame " + std::to_string (count_ + 1) + " ('" +
-                                frame.name + ") is " + sizeText (frame.width, frame.height) + ", the recording is " +
+                                frame.name + "') is " + sizeText (frame.width, frame.height) + ", the recording is " +
                                 sizeText (info_.width, info_.height) + ": an OpenNI2 stream has one frame size");
       all_colour = all_colour && frame.rgb.size () == std::size_t (3) * frame.width * frame.height;
       ++count_;
@@ -107,6 +107,7 @@ public:
     if (count_ == 0)
       throw pcl::IOException ("recording '" + uri_.recording + "' has no frame");
     colour_ = uri_.colour && all_colour;
+    reader_ = open (); // ready for the first frame, which is due a period after the stream starts
   }
 
   std::vector<SourceMode>

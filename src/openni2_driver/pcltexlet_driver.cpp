@@ -6,7 +6,7 @@
  * (PIXEL_FORMAT_DEPTH_1_MM; a simulator scene at VGA and QVGA, a recording at its own size) and,
  * for recordings whose every frame has colour, a colour sensor (RGB888 on the depth image's grid,
  * so depth is already registered to colour). One clock thread per device makes frame i (from 0)
- * at start + i / 30 s and hands it to every started stream with frame index i + 1 and timestamp
+ * a period after frame i - 1 (the first a period after the start) and hands it to every started stream with frame index i + 1 and timestamp
  * (i + 1) * 33333 us, so depth and colour of one instant share index and timestamp (OpenNI2's
  * depth-colour frame sync pairs frames by index).
  *
@@ -262,16 +262,20 @@ private:
   void
   run ()
   {
-    const auto start = std::chrono::steady_clock::now ();
     const std::uint64_t count = source_->frameCount ();
+    // The first frame comes a period after the start, as a sensor's does. A frame made late (a
+    // slow disk) moves the schedule on rather than bursting to catch up: consumers that read the
+    // newest frame (OpenNI2's readFrame) would lose the frames of a burst.
+    auto due = std::chrono::steady_clock::now () + std::chrono::microseconds (kFramePeriodUs);
     DepthFrame frame;
     for (std::uint64_t i = 0; count == 0 || i < count; ++i)
     {
       {
         std::unique_lock<std::mutex> lock (mutex_);
-        if (wake_.wait_until (lock, start + std::chrono::microseconds (i * kFramePeriodUs), [this] { return !running_; }))
+        if (wake_.wait_until (lock, due, [this] { return !running_; }))
           return;
       }
+      due = std::max (due, std::chrono::steady_clock::now ()) + std::chrono::microseconds (kFramePeriodUs);
       try
       {
         source_->frame (i, mode (), frame);
