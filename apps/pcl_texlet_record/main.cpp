@@ -72,6 +72,7 @@ run (int argc, char **argv)
   double timeout_s = 5.0;
   bool no_colour = false;
   bool quiet = false;
+  std::string size;
 
   CLI::App app {"Record an OpenNI2 device (a sensor, or pcl_texlet's simulated Kinect) to an .oni file"};
   app.add_option ("OUTPUT", output, ".oni file to write")->required ();
@@ -79,6 +80,8 @@ run (int argc, char **argv)
                                              "'pcltexlet:sim=plane;seed=1' or 'pcltexlet:recording=FOLDER;loop=0'");
   app.add_option ("-n,--frames", frames, "depth frames to record")->required ();
   app.add_option ("--timeout", timeout_s, "longest wait for one frame, seconds")->capture_default_str ();
+  app.add_option ("--size", size, "depth (and colour) image size WIDTHxHEIGHT at 30 Hz, e.g. 320x240 (default: the "
+                                  "device's)");
   app.add_flag ("--no-colour", no_colour, "record depth only");
   app.add_flag ("-q,--quiet", quiet, "no progress lines");
   if (!pcl_texlet_app::parseCommandLine (app, argc, argv))
@@ -106,6 +109,28 @@ run (int argc, char **argv)
   openni::VideoStream colour;
   if (!no_colour && device.hasSensor (openni::SENSOR_COLOR) && colour.create (device, openni::SENSOR_COLOR) != openni::STATUS_OK)
     throw InputError ("cannot open the colour stream of " + device_name + ": " + openniError ());
+
+  if (!size.empty ())
+  {
+    int width = 0, height = 0;
+    char x = 0, rest = 0;
+    if (std::sscanf (size.c_str (), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width <= 0 || height <= 0)
+      throw InputError ("--size '" + size + "' is not WIDTHxHEIGHT");
+    for (openni::VideoStream *stream : {&depth, &colour})
+    {
+      if (!stream->isValid ())
+        continue;
+      const openni::Array<openni::VideoMode> &modes = stream->getSensorInfo ().getSupportedVideoModes ();
+      bool set = false;
+      for (int i = 0; i < modes.getSize () && !set; ++i)
+        if (modes[i].getResolutionX () == width && modes[i].getResolutionY () == height && modes[i].getFps () == 30 &&
+            modes[i].getPixelFormat () == stream->getVideoMode ().getPixelFormat ())
+          set = stream->setVideoMode (modes[i]) == openni::STATUS_OK;
+      if (!set)
+        throw InputError (device_name + " offers no " + size + " mode at 30 Hz" +
+                          (stream == &colour ? " for colour (try --no-colour)" : ""));
+    }
+  }
 
   TemporaryFile partial;
   partial.path = (folder / ("." + fs::path (output).stem ().string () + ".partial-" + std::to_string (getpid ()) + ".oni")).string ();
