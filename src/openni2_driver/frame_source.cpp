@@ -183,7 +183,7 @@ public:
     if (uri_.scene == "plane")
       setup_ = sim::planeSetup (parameter ("distance", 1.5), parameter ("tilt_x", 0.0), parameter ("tilt_y", 0.0));
     else if (uri_.scene == "box")
-      setup_ = sim::boxSetup (parameter ("distance", 1.2), parameter ("elevation", 45.0));
+      setup_ = sim::boxSetup (parameter ("distance", 1.2), parameter ("elevation", 40.0));
     else
       badUri (std::string (kUriPrefix) + "sim=" + uri_.scene, "unknown scene '" + uri_.scene + "' (plane or box)");
 
