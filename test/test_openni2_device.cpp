@@ -569,6 +569,36 @@ TEST_F (OpenNI2Device, DeviceReaderDeliversTheDevicesFramesWithItsCamera)
 
 } // namespace
 
+// --- pcl_texlet_viewer's live-sensor path (issue 8) --------------------------------------------
+
+TEST_F (OpenNI2Device, ViewerShowsTheFirstSensorWhenItIsTheSimulatedOne)
+{
+  if (std::string (XVFB_RUN).empty ())
+    GTEST_SKIP () << "xvfb-run is not installed: no X server for the viewer";
+  // Inside this namespace the only OpenNI2 drivers are pcl_texlet's and OniFile, so the first
+  // sensor is the listed simulated one: a wall 1.2 m ahead.
+  const std::string png = file ("sensor.png");
+  std::string err;
+  const int code = run ("env PCLTEXLET_DEVICES='pcltexlet:sim=plane;distance=1.2;seed=2' " + std::string (XVFB_RUN) +
+                            " -a -s '-screen 0 1280x1024x24' " + VIEWER_APP +
+                            " sensor --size 640 --layers cloud,texlets -u none --screenshot " + png,
+                        &err, 180);
+  ASSERT_EQ (code, 0) << err;
+  int width = 0, height = 0;
+  const std::vector<std::uint8_t> rgb = readRgbPng (png, width, height);
+  ASSERT_GT (width, 100);
+  // The wall fills the view: most of the picture away from the text overlays is lit.
+  std::size_t lit = 0, all = 0;
+  for (int v = 40; v < height - 30; ++v)
+    for (int u = 0; u < width; ++u)
+    {
+      const std::uint8_t *p = &rgb[3 * (std::size_t (v) * width + u)];
+      lit += p[0] + p[1] + p[2] > 30;
+      ++all;
+    }
+  EXPECT_GT (double (lit) / all, 0.3) << "the screenshot of the simulated sensor is mostly blank";
+}
+
 /** The tests' own main: libOpenNI2 2.2 can crash tearing itself down at exit (its static context
   * unloads drivers while its listener threads still run), after every test has passed. The result
   * is reported, then the process ends without running static destructors.
