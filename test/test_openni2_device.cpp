@@ -194,6 +194,11 @@ TEST_P (GrabberMode, CloudsEqualTheSimulatorsDepthBackProjected)
   const bool vga = GetParam () == 640;
   const pcl::io::OpenNI2Grabber::Mode mode =
       vga ? pcl::io::OpenNI2Grabber::OpenNI_VGA_30Hz : pcl::io::OpenNI2Grabber::OpenNI_QVGA_30Hz;
+  // Declared before the grabber, so that they outlive any callback still running while it stops.
+  using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+  std::mutex mutex;
+  std::condition_variable arrived;
+  std::vector<Cloud::ConstPtr> clouds;
   pcl::io::OpenNI2Grabber grabber (kPlaneUri, mode, mode);
   const int width = vga ? 640 : 320, height = vga ? 480 : 240;
   const sim::KinectSimulator simulator = planeSimulator (width, height);
@@ -204,10 +209,6 @@ TEST_P (GrabberMode, CloudsEqualTheSimulatorsDepthBackProjected)
   EXPECT_NEAR (grabber.getDevice ()->getBaseline (), sensor.baseline_m, 1e-6);
   EXPECT_FALSE (grabber.getDevice ()->isFile ());
 
-  using Cloud = pcl::PointCloud<pcl::PointXYZ>;
-  std::mutex mutex;
-  std::condition_variable arrived;
-  std::vector<Cloud::ConstPtr> clouds;
   grabber.registerCallback (std::function<void (const Cloud::ConstPtr &)> ([&] (const Cloud::ConstPtr &cloud) {
     std::lock_guard<std::mutex> lock (mutex);
     if (clouds.size () < 3)
