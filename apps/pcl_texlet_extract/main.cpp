@@ -13,6 +13,7 @@
 #include <pcl_texlet/pinhole_model.h>
 #include <pcl_texlet/recording.h>
 #include <pcl_texlet/recording_readers.h>
+#include <pcl_texlet/openni2_device_reader.h>
 #include <pcl_texlet/noise_model_io.h>
 #include <pcl_texlet/texlet_estimation.h>
 
@@ -54,6 +55,7 @@ struct Options
   unsigned threads = 0;
   bool ascii = false, quiet = false;
   std::string bad_frames = "skip"; // a frame that cannot be read: skip (warn, count) or fail
+  std::size_t frames = 0; // frames to read: all of a recording (0), or that many of a live sensor
 };
 
 /** A uniform sample of at most kCapacity of the values added (reservoir sampling, fixed seed),
@@ -274,14 +276,15 @@ warnSkipped (const std::string &message)
 /** Every frame of a recording, back-projected with the recording's own camera. */
 void
 extractRecording (Extractor &ex, pcl::texlet::RecordingReader &reader, pcl::texlet::RecordingKind kind,
-                  const std::string &input, const std::string &out_dir)
+                  const std::string &input, const std::string &out_dir, std::size_t max_frames = 0)
 {
   const auto &info = reader.cameraInfo ();
   const auto camera = std::make_shared<pcl::texlet::PinholeModel> (pcl::texlet::PinholeModel::fromCameraInfo (info));
-  ex.setFrameCount (reader.size ());
+  const std::size_t frames = max_frames > 0 ? std::min (max_frames, reader.size ()) : reader.size ();
+  ex.setFrameCount (frames);
   pcl::texlet::DepthFrame frame;
   auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
-  while (reader.next (frame))
+  for (std::size_t read = 0; read < frames && reader.next (frame); ++read)
   {
     pcl::texlet::depthToCloud (frame, *camera, *cloud);
     // Names the frame's file where there is one, else the frame within the input.
@@ -346,7 +349,8 @@ run (int argc, char **argv)
                 "OUTPUT: a texlet PCD file for a PCD file input, else a folder with one texlet PCD per frame.",
                 kName);
   app.add_option ("INPUT", o.input, "organised PCD file, folder of PCD files, recording folder, grabber TIFF folder, "
-                                    "or .oni file")
+                                    ".oni file, or a live OpenNI2 device: 'sensor' (the first one) or 'sensor:URI' "
+                                    "(e.g. sensor:pcltexlet:sim=plane;seed=1, docs/openni2_device.md)")
       ->required ();
   app.add_option ("OUTPUT", o.output, "texlet PCD file, or output folder for several frames")->required ();
   app.add_option ("-s,--spacing", o.params.spacing, "hexagonal grid spacing, pixels")->capture_default_str ();
@@ -367,6 +371,9 @@ run (int argc, char **argv)
                   "depth noise model YAML (e.g. the model.yaml pcl_texlet_lab writes; default: the paper's Eq. 4)");
   app.add_option ("-j,--threads", o.threads, "threads (0: all)")->capture_default_str ();
   app.add_flag ("--ascii", o.ascii, "write ASCII PCD (9 significant digits: exact) instead of binary");
+  app.add_option ("--frames", o.frames, "frames to read: needed for a live sensor; the first N of a recording "
+                                        "(0: all)")
+      ->capture_default_str ();
   app.add_flag ("-q,--quiet", o.quiet, "no progress lines");
   app.add_option ("--bad-frames", o.bad_frames,
                   "a frame of a recording or PCD folder that cannot be read (corrupt, truncated, wrong size): "
@@ -386,6 +393,21 @@ run (int argc, char **argv)
     throw InputError ("--threads " + std::to_string (o.threads) + " is not a sensible thread count");
   Extractor ex (o);
   const bool skip = o.bad_frames == "skip";
+
+  if (o.input == "sensor" || o.input.rfind ("sensor:", 0) == 0)
+  {
+    if (o.frames == 0)
+      throw InputError ("a live sensor needs --frames N (how many frames to read)");
+    if (fs::exists (o.output) && !fs::is_directory (o.output))
+      throw InputError ("OUTPUT '" + o.output + "' must be a folder when INPUT is a sensor");
+    pcl::texlet::OpenNI2DeviceReader reader (o.input == "sensor" ? "" : o.input.substr (7), o.frames);
+    pcl_texlet_app::FolderGuard made (fs::exists (o.output) ? fs::path () : fs::path (o.output));
+    fs::create_directories (o.output);
+    extractRecording (ex, reader, pcl::texlet::RecordingKind::oni_file, o.input, o.output);
+    made.release ();
+    printSummary (ex.summary (), o);
+    return 0;
+  }
 
   std::string extension = fs::path (o.input).extension ().string ();
   std::transform (extension.begin (), extension.end (), extension.begin (), [] (unsigned char c) { return std::tolower (c); });
@@ -414,7 +436,7 @@ run (int argc, char **argv)
       if (skip)
         reader = skipping = std::make_shared<pcl::texlet::FrameSkippingReader> (reader, warnSkipped);
       fs::create_directories (o.output);
-      extractRecording (ex, *reader, kind, o.input, o.output);
+      extractRecording (ex, *reader, kind, o.input, o.output, o.frames);
       if (skipping)
         ex.noteSkipped (skipping->skipped ());
     }

@@ -5,6 +5,7 @@
 #include <pcl_texlet/recording.h>
 #include <pcl_texlet/recording_readers.h>
 
+#include <pcl/common/io.h> // pcl::copyPointCloud
 #include <pcl/exceptions.h>
 #include <pcl/io/openni2_grabber.h>
 #include <pcl/io/pcd_io.h>
@@ -143,11 +144,27 @@ public:
   explicit GrabberSource (const std::string &device) : device_ (device.empty () ? "first OpenNI2 sensor" : device)
   {
     grabber_ = std::make_unique<pcl::io::OpenNI2Grabber> (device);
-    std::function<void (const Cloud::ConstPtr &)> f = [this] (const Cloud::ConstPtr &cloud) {
-      std::lock_guard<std::mutex> lock (mutex_);
-      latest_ = cloud;
-    };
-    grabber_->registerCallback (f);
+    using DepthOnlyCloud = pcl::PointCloud<pcl::PointXYZ>;
+    if (grabber_->providesCallback<void (const Cloud::ConstPtr &)> ())
+    {
+      std::function<void (const Cloud::ConstPtr &)> f = [this] (const Cloud::ConstPtr &cloud) {
+        std::lock_guard<std::mutex> lock (mutex_);
+        latest_ = cloud;
+      };
+      grabber_->registerCallback (f);
+    }
+    else // a depth-only device (no colour sensor): the grabber offers XYZ clouds only
+    {
+      std::function<void (const DepthOnlyCloud::ConstPtr &)> f = [this] (const DepthOnlyCloud::ConstPtr &xyz) {
+        auto cloud = std::make_shared<Cloud> ();
+        pcl::copyPointCloud (*xyz, *cloud);
+        for (auto &p : *cloud)
+          p.r = p.g = p.b = p.a = 255; // a depth sensor sees no colour: white points
+        std::lock_guard<std::mutex> lock (mutex_);
+        latest_ = cloud;
+      };
+      grabber_->registerCallback (f);
+    }
     grabber_->start ();
   }
 
