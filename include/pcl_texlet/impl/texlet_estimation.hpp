@@ -91,9 +91,13 @@ public:
     const bool need_sigma = params_.uncertainty != UncertaintyMethod::None;
     int count = 0;
     double zsum = 0.0;
+    // Raw pointers in locals: through the vectors, every store would make the compiler reload
+    // their data pointers (the gather was ~40 instructions a pixel, now about half).
+    double *const xs = x_.data (), *const ys = y_.data (), *const zs = z_.data ();
+    int *const pixels = pixel_.data ();
     const auto take = [&] (const PointInT &p, int pixel) {
-      x_[count] = p.x; y_[count] = p.y; z_[count] = p.z;
-      pixel_[count] = pixel;
+      xs[count] = p.x; ys[count] = p.y; zs[count] = p.z;
+      pixels[count] = pixel;
       zsum += p.z;
       ++count;
     };
@@ -102,11 +106,13 @@ public:
     {
       // The disc lies inside the image: no bounds checks, pixels by their linear offsets.
       const PointInT *base = &cloud_[centre];
-      for (std::size_t o = 0; o < offset_.size (); ++o)
+      const std::ptrdiff_t *const offsets = offset_.data ();
+      const std::size_t n_offsets = offset_.size ();
+      for (std::size_t o = 0; o < n_offsets; ++o)
       {
-        const PointInT &p = base[offset_[o]];
+        const PointInT &p = base[offsets[o]];
         if (isValidDepthPoint (p))
-          take (p, static_cast<int> (centre + offset_[o]));
+          take (p, static_cast<int> (centre + offsets[o]));
       }
     }
     else

@@ -101,6 +101,60 @@ philoxBlocks (std::uint32_t seed, std::uint32_t texlet, std::uint32_t counter, R
   }
 }
 
+/** \brief Philox4x32-10 words of counters first .. first+n-1 for (seed, texlet, block, stream):
+  * the words of counter first+i are w0[i] .. w3[i], equal to
+  * philoxWords (seed, texlet, first + i, block, stream). RANSAC draws its hypotheses' triples
+  * this way, all iterations at once.
+  */
+PCL_TEXLET_HD void
+philoxCounters (std::uint32_t seed, std::uint32_t texlet, std::uint32_t block, RandomStream stream, int first, int n,
+                std::uint32_t *w0, std::uint32_t *w1, std::uint32_t *w2, std::uint32_t *w3)
+{
+  int i = 0;
+#if defined(PCL_TEXLET_AVX2_KERNELS)
+  // As in philoxBlocks(): four counters at a time, one per 64-bit lane.
+  {
+    const __m256i vm0 = _mm256_set1_epi64x (0xD2511F53LL), vm1 = _mm256_set1_epi64x (0xCD9E8D57LL);
+    const __m256i low_words = _mm256_setr_epi32 (0, 2, 4, 6, 0, 2, 4, 6);
+    const __m256i step = _mm256_setr_epi64x (0, 1, 2, 3);
+    for (; i + 4 <= n; i += 4)
+    {
+      __m256i c0 = _mm256_set1_epi32 (static_cast<int> (texlet));
+      __m256i c1 = _mm256_add_epi64 (_mm256_set1_epi64x (static_cast<long long> (static_cast<std::uint32_t> (first + i))), step);
+      __m256i c2 = _mm256_set1_epi32 (static_cast<int> (block));
+      __m256i c3 = _mm256_set1_epi32 (static_cast<int> (stream));
+      std::uint32_t k0 = seed, k1 = 0x7e41e7u; // the key of philoxWords()
+      for (int round = 0; round < 10; ++round)
+      {
+        const __m256i p0 = _mm256_mul_epu32 (c0, vm0), p1 = _mm256_mul_epu32 (c2, vm1);
+        c0 = _mm256_xor_si256 (_mm256_srli_epi64 (p1, 32), _mm256_xor_si256 (c1, _mm256_set1_epi32 (static_cast<int> (k0))));
+        c1 = p1;
+        c2 = _mm256_xor_si256 (_mm256_srli_epi64 (p0, 32), _mm256_xor_si256 (c3, _mm256_set1_epi32 (static_cast<int> (k1))));
+        c3 = p0;
+        k0 += 0x9E3779B9u;
+        k1 += 0xBB67AE85u;
+      }
+      const auto store = [&] (__m256i c, std::uint32_t *w) {
+        _mm_storeu_si128 (reinterpret_cast<__m128i *> (w + i),
+                          _mm256_castsi256_si128 (_mm256_permutevar8x32_epi32 (c, low_words)));
+      };
+      store (c0, w0);
+      store (c1, w1);
+      store (c2, w2);
+      store (c3, w3);
+    }
+  }
+#endif
+  for (; i < n; ++i)
+  {
+    const r123::Philox4x32::ctr_type w = philoxWords (seed, texlet, static_cast<std::uint32_t> (first + i), block, stream);
+    w0[i] = w.v[0];
+    w1[i] = w.v[1];
+    w2[i] = w.v[2];
+    w3[i] = w.v[3];
+  }
+}
+
 /** \brief Bits of a float as an integer and back, without aliasing. */
 PCL_TEXLET_HD std::uint32_t
 floatBits (float f)
