@@ -108,7 +108,7 @@ TEST (SimdPaths, BoxMullerOfExtremeWordsIsFiniteAndExact)
     }
 }
 
-TEST (SimdPaths, InlierCountIsThePointPlaneTest)
+TEST (SimdPaths, InlierCountAndMaskAreThePointPlaneTest)
 {
   if (!processorRunsThisBuild ())
     GTEST_SKIP () << "this processor does not run x86-64-v3 code";
@@ -135,6 +135,10 @@ TEST (SimdPaths, InlierCountIsThePointPlaneTest)
       for (int i = 0; i < n; ++i)
         expected += pointPlaneDistance (plane, make3 (x[i], y[i], z[i])) <= threshold ? 1 : 0;
       EXPECT_EQ (countInliers (plane, x.data (), y.data (), z.data (), 0, n, threshold), expected) << "trial " << trial;
+      std::vector<unsigned char> mask (n, 7);
+      markInliers (plane, x.data (), y.data (), z.data (), n, threshold, mask.data ());
+      for (int i = 0; i < n; ++i)
+        ASSERT_EQ (mask[i], pointPlaneDistance (plane, make3 (x[i], y[i], z[i])) <= threshold ? 1 : 0) << "point " << i;
       const int mid = n / 3;
       EXPECT_EQ (countInliers (plane, x.data (), y.data (), z.data (), 0, mid, threshold) +
                      countInliers (plane, x.data (), y.data (), z.data (), mid, n, threshold),

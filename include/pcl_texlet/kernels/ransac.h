@@ -68,6 +68,35 @@ countInliers (const Plane<S> &plane, const S *x, const S *y, const S *z, int beg
   return count;
 }
 
+/** \brief mask[i] = 1 for the points within \a threshold of \a plane, else 0 (the test of
+  * countInliers()), for i in [0, n).
+  */
+template <typename S> PCL_TEXLET_HD void
+markInliers (const Plane<S> &plane, const S *x, const S *y, const S *z, int n, S threshold, unsigned char *mask)
+{
+  int i = 0;
+#if defined(PCL_TEXLET_AVX2_KERNELS)
+  if constexpr (std::is_same<S, double>::value)
+  {
+    const __m256d nx = _mm256_set1_pd (plane.n.x), ny = _mm256_set1_pd (plane.n.y), nz = _mm256_set1_pd (plane.n.z);
+    const __m256d d = _mm256_set1_pd (plane.d), thr = _mm256_set1_pd (threshold);
+    const __m256d abs_mask = _mm256_castsi256_pd (_mm256_set1_epi64x (0x7fffffffffffffffLL));
+    for (; i + 4 <= n; i += 4)
+    {
+      const __m256d dot = _mm256_add_pd (_mm256_add_pd (_mm256_mul_pd (nx, _mm256_loadu_pd (x + i)),
+                                                        _mm256_mul_pd (ny, _mm256_loadu_pd (y + i))),
+                                         _mm256_mul_pd (nz, _mm256_loadu_pd (z + i)));
+      const __m256d dist = _mm256_and_pd (_mm256_add_pd (dot, d), abs_mask);
+      const int bits = _mm256_movemask_pd (_mm256_cmp_pd (dist, thr, _CMP_LE_OQ));
+      for (int j = 0; j < 4; ++j)
+        mask[i + j] = static_cast<unsigned char> ((bits >> j) & 1);
+    }
+  }
+#endif
+  for (; i < n; ++i)
+    mask[i] = pointPlaneDistance (plane, make3 (x[i], y[i], z[i])) <= threshold ? 1 : 0;
+}
+
 /** \brief Best plane over \a iterations hypotheses through three distinct points of the
   * \a n points (x, y, z). \return its inlier count (distance <= threshold), 0 if every
   * hypothesis was degenerate (collinear triples) or n < 3.
