@@ -29,9 +29,9 @@ namespace texlet
 namespace detail
 {
 
-/** \brief kernels::computeTexlet in double precision, compiled into the library once per
-  * instruction-set level (src/texlet_estimation.cpp) so that it runs with the widest SIMD
-  * registers the processor has.
+/** \brief kernels::computeTexlet in double precision, compiled into the library for the
+  * baseline (src/texlet_estimation.cpp) and for x86-64-v3 with AVX2 intrinsics
+  * (src/texlet_kernel_x86_64_v3.cpp); the first call picks the one the processor runs.
   */
 PCL_EXPORTS void
 computeTexletKernel (const kernels::Neighbourhood<double> &nb, const kernels::TexletSettings<double> &settings,
