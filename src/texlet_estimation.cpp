@@ -8,23 +8,69 @@
 #include <pcl/impl/instantiate.hpp>
 #include <pcl/point_types.h>
 
-// The texlet kernel is compiled twice, for x86-64-v3 (AVX2, FMA) and for the baseline, and the
-// loader picks the one the processor runs (GCC's target_clones, an ifunc; flatten inlines the
-// kernels into each, which would otherwise be called in their baseline build): the Monte Carlo
-// draws and moments are SIMD loops that gain twice from the wider registers. The library is
-// built with -ffp-contract=off, so both give the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define PCL_TEXLET_CPU_CLONES __attribute__ ((flatten, target_clones ("arch=x86-64-v3", "default")))
-#else
-#define PCL_TEXLET_CPU_CLONES
+// The texlet kernel is compiled twice: here for the baseline, and in
+// src/texlet_kernel_x86_64_v3.cpp for x86-64-v3 (AVX2, FMA), where the Monte Carlo draws use
+// AVX2 intrinsics and the other SIMD loops the wider registers. The first call picks the one
+// the processor runs. flatten inlines the kernels into each. The library is built with
+// -ffp-contract=off, so both give the same bits.
+#if defined(PCL_TEXLET_X86_64_V3_KERNEL)
+namespace pcl
+{
+namespace texlet
+{
+namespace detail
+{
+void
+computeTexletKernelX86_64_v3 (const kernels::Neighbourhood<double> &nb, const kernels::TexletSettings<double> &settings,
+                              std::uint32_t texlet, unsigned char *mask, double *work,
+                              kernels::TexletResult<double> &out);
+} // namespace detail
+} // namespace texlet
+} // namespace pcl
 #endif
 
-PCL_TEXLET_CPU_CLONES void
+namespace
+{
+
+#if defined(__GNUC__)
+__attribute__ ((flatten))
+#endif
+void
+computeTexletKernelBaseline (const pcl::texlet::kernels::Neighbourhood<double> &nb,
+                             const pcl::texlet::kernels::TexletSettings<double> &settings, std::uint32_t texlet,
+                             unsigned char *mask, double *work, pcl::texlet::kernels::TexletResult<double> &out)
+{
+  pcl::texlet::kernels::computeTexlet (nb, settings, texlet, mask, work, out);
+}
+
+using KernelFunction = decltype (&computeTexletKernelBaseline);
+
+KernelFunction
+pickKernel ()
+{
+#if defined(PCL_TEXLET_X86_64_V3_KERNEL)
+  __builtin_cpu_init ();
+#if defined(__clang__)
+  const bool v3 = __builtin_cpu_supports ("avx2") && __builtin_cpu_supports ("fma") &&
+                  __builtin_cpu_supports ("bmi") && __builtin_cpu_supports ("bmi2");
+#else
+  const bool v3 = __builtin_cpu_supports ("x86-64-v3");
+#endif
+  if (v3)
+    return &pcl::texlet::detail::computeTexletKernelX86_64_v3;
+#endif
+  return &computeTexletKernelBaseline;
+}
+
+} // namespace
+
+void
 pcl::texlet::detail::computeTexletKernel (const kernels::Neighbourhood<double> &nb,
                                           const kernels::TexletSettings<double> &settings, std::uint32_t texlet,
                                           unsigned char *mask, double *work, kernels::TexletResult<double> &out)
 {
-  kernels::computeTexlet (nb, settings, texlet, mask, work, out);
+  static const KernelFunction kernel = pickKernel ();
+  kernel (nb, settings, texlet, mask, work, out);
 }
 
 #define PCL_INSTANTIATE_TexletEstimation(T, OutT) template class PCL_EXPORTS pcl::TexletEstimation<T, OutT>;

@@ -8,8 +8,11 @@
  */
 #pragma once
 
+#include <pcl_texlet/kernels/normal_blocks.h>
 #include <pcl_texlet/kernels/philox_rng.h>
 #include <pcl_texlet/kernels/vec3.h>
+
+#include <type_traits>
 
 namespace pcl
 {
@@ -32,6 +35,68 @@ pointPlaneDistance (const Plane<S> &plane, const Vec3<S> &p)
   return std::fabs (dot (plane.n, p) + plane.d);
 }
 
+/** \brief Number of points i in [begin, end) within \a threshold of \a plane
+  * (pointPlaneDistance (plane, p_i) <= threshold).
+  */
+template <typename S> PCL_TEXLET_HD int
+countInliers (const Plane<S> &plane, const S *x, const S *y, const S *z, int begin, int end, S threshold)
+{
+  int count = 0;
+  int i = begin;
+#if defined(PCL_TEXLET_AVX2_KERNELS)
+  if constexpr (std::is_same<S, double>::value)
+  {
+    // Four points a step, the very operations of pointPlaneDistance in the same order.
+    const __m256d nx = _mm256_set1_pd (plane.n.x), ny = _mm256_set1_pd (plane.n.y), nz = _mm256_set1_pd (plane.n.z);
+    const __m256d d = _mm256_set1_pd (plane.d), thr = _mm256_set1_pd (threshold);
+    const __m256d abs_mask = _mm256_castsi256_pd (_mm256_set1_epi64x (0x7fffffffffffffffLL));
+    __m256i in = _mm256_setzero_si256 ();
+    for (; i + 4 <= end; i += 4)
+    {
+      const __m256d dot = _mm256_add_pd (_mm256_add_pd (_mm256_mul_pd (nx, _mm256_loadu_pd (x + i)),
+                                                        _mm256_mul_pd (ny, _mm256_loadu_pd (y + i))),
+                                         _mm256_mul_pd (nz, _mm256_loadu_pd (z + i)));
+      const __m256d dist = _mm256_and_pd (_mm256_add_pd (dot, d), abs_mask);
+      in = _mm256_sub_epi64 (in, _mm256_castpd_si256 (_mm256_cmp_pd (dist, thr, _CMP_LE_OQ)));
+    }
+    const __m128i sum2 = _mm_add_epi64 (_mm256_castsi256_si128 (in), _mm256_extracti128_si256 (in, 1));
+    count = static_cast<int> (_mm_cvtsi128_si64 (sum2) + _mm_extract_epi64 (sum2, 1));
+  }
+#endif
+  for (; i < end; ++i)
+    count += pointPlaneDistance (plane, make3 (x[i], y[i], z[i])) <= threshold ? 1 : 0;
+  return count;
+}
+
+/** \brief mask[i] = 1 for the points within \a threshold of \a plane, else 0 (the test of
+  * countInliers()), for i in [0, n).
+  */
+template <typename S> PCL_TEXLET_HD void
+markInliers (const Plane<S> &plane, const S *x, const S *y, const S *z, int n, S threshold, unsigned char *mask)
+{
+  int i = 0;
+#if defined(PCL_TEXLET_AVX2_KERNELS)
+  if constexpr (std::is_same<S, double>::value)
+  {
+    const __m256d nx = _mm256_set1_pd (plane.n.x), ny = _mm256_set1_pd (plane.n.y), nz = _mm256_set1_pd (plane.n.z);
+    const __m256d d = _mm256_set1_pd (plane.d), thr = _mm256_set1_pd (threshold);
+    const __m256d abs_mask = _mm256_castsi256_pd (_mm256_set1_epi64x (0x7fffffffffffffffLL));
+    for (; i + 4 <= n; i += 4)
+    {
+      const __m256d dot = _mm256_add_pd (_mm256_add_pd (_mm256_mul_pd (nx, _mm256_loadu_pd (x + i)),
+                                                        _mm256_mul_pd (ny, _mm256_loadu_pd (y + i))),
+                                         _mm256_mul_pd (nz, _mm256_loadu_pd (z + i)));
+      const __m256d dist = _mm256_and_pd (_mm256_add_pd (dot, d), abs_mask);
+      const int bits = _mm256_movemask_pd (_mm256_cmp_pd (dist, thr, _CMP_LE_OQ));
+      for (int j = 0; j < 4; ++j)
+        mask[i + j] = static_cast<unsigned char> ((bits >> j) & 1);
+    }
+  }
+#endif
+  for (; i < n; ++i)
+    mask[i] = pointPlaneDistance (plane, make3 (x[i], y[i], z[i])) <= threshold ? 1 : 0;
+}
+
 /** \brief Best plane over \a iterations hypotheses through three distinct points of the
   * \a n points (x, y, z). \return its inlier count (distance <= threshold), 0 if every
   * hypothesis was degenerate (collinear triples) or n < 3.
@@ -43,10 +108,20 @@ ransacPlane (const S *x, const S *y, const S *z, int n, int iterations, S thresh
   if (n < 3)
     return 0;
   int best_count = 0;
+  // The hypotheses' Philox words, a batch of iterations at a time (philoxCounters).
+  constexpr int batch = 8;
+  std::uint32_t words[4][batch];
   for (int it = 0; it < iterations; ++it)
   {
+    const int slot = it % batch;
+    if (slot == 0)
+    {
+      const int m = iterations - it < batch ? iterations - it : batch;
+      philoxCounters (seed, texlet, 0u, RandomStream::Ransac, it, m, words[0], words[1], words[2], words[3]);
+    }
+    const r123::Philox4x32::ctr_type w = {{words[0][slot], words[1][slot], words[2][slot], words[3][slot]}};
     int ia, ib, ic;
-    distinctTriple (philoxWords (seed, texlet, static_cast<std::uint32_t> (it), 0u, RandomStream::Ransac), n, ia, ib, ic);
+    distinctTriple (w, n, ia, ib, ic);
     const Vec3<S> pa = {x[ia], y[ia], z[ia]};
     const Vec3<S> ab = make3 (x[ib], y[ib], z[ib]) - pa, ac = make3 (x[ic], y[ic], z[ic]) - pa;
     const Vec3<S> c = cross (ab, ac);
@@ -63,8 +138,7 @@ ransacPlane (const S *x, const S *y, const S *z, int n, int iterations, S thresh
     for (int start = 0; start < n; start += 32)
     {
       const int end = n - start < 32 ? n : start + 32;
-      for (int i = start; i < end; ++i)
-        count += pointPlaneDistance (h, make3 (x[i], y[i], z[i])) <= threshold ? 1 : 0;
+      count += countInliers (h, x, y, z, start, end, threshold);
       if (count + (n - end) <= best_count)
         break;
     }

@@ -73,13 +73,10 @@ computeTexlet (const Neighbourhood<S> &nb, const TexletSettings<S> &st, std::uin
 
   PlaneMoments<S> m;
   m.reset (nb.point (0)); // any point of the patch keeps the sums small
+  markInliers (plane, nb.x, nb.y, nb.z, nb.count, st.threshold, mask);
   for (int k = 0; k < nb.count; ++k)
-  {
-    const Vec3<S> p = nb.point (k);
-    mask[k] = pointPlaneDistance (plane, p) <= st.threshold ? 1 : 0;
     if (mask[k])
-      m.add (p);
-  }
+      m.add (nb.point (k));
   PlaneFit<S> fit;
   if (!fitPlanePca (m, fit))
     return;
