@@ -116,9 +116,10 @@ TEST (ModelLabTexlets, StripesMakePaperTexletsOverconfidentUntilAdded)
 {
   lab::TexletConsistency before, after;
   beforeAndAfter ("vertical_stripes", 22, before, after);
-  // Measured: ratio 4289 (P), 754 (N) under the paper model; 151 and 34 with the stripes added.
-  // Not 1 after: a stripe offsets a whole column, shared by the ~13 columns of a texlet's
-  // disc, while the texlet propagates every pixel's variance as independent.
+  // Measured: ratio 4289 (P), 754 (N) under the paper model; 38.9 and 8.7 with the stripes
+  // added (151 and 34 while TexletEstimation converted disparity with the VGA f b at this
+  // QVGA resolution). Not 1 after: a stripe offsets a whole column, shared by the ~13 columns
+  // of a texlet's disc, while the texlet propagates every pixel's variance as independent.
   EXPECT_GT (before.ratioP (), 100.0);
   EXPECT_GT (before.ratioN (), 100.0);
   EXPECT_LT (after.ratioP (), before.ratioP () / 10);
