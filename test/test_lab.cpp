@@ -97,7 +97,7 @@ runLab (const std::string &effect, std::uint32_t seed)
   std::cout << "  start: sd_rmse " << run.before.sd_rmse_mm << " bias_rmse " << run.before.bias_rmse_mm << " nll "
             << run.before.nll << "\n";
   for (const auto &c : run.candidates)
-    std::cout << "  " << c.effect << ": gain " << c.gain << " threshold " << c.threshold << " (null " << c.null_mean
+    std::cout << "  " << c.effect << ": gain " << c.gain << " (" << c.total_gain << " nats in all) threshold " << c.threshold << " (null " << c.null_mean
               << " +- " << c.null_sd << ")" << (c.significant ? " significant" : "") << " sd_rmse "
               << c.metrics.sd_rmse_mm << " bias_rmse " << c.metrics.bias_rmse_mm << "\n";
 

@@ -13,7 +13,13 @@
 
 #include <gtest/gtest.h>
 
+#include <pcl_texlet/kernels/effect_terms.h>
+#include <pcl_texlet/pinhole_model.h>
+#include <pcl_texlet/texlet_estimation.h>
+
 #include <pcl/exceptions.h>
+
+#include <cmath>
 
 #include <iostream>
 #include <sstream>
@@ -29,7 +35,14 @@ simulatePlanes (const std::string &effect, std::uint32_t seed)
 {
   const int W = 320, H = 240;
   const double distances[5] = {0.8, 1.35, 1.9, 2.45, 3.0};
-  const double tilt_y[5] = {12, -18, 24, -14, 20}, tilt_x[5] = {6, -4, 8, -6, 4};
+  double tilt_y[5] = {12, -18, 24, -14, 20}, tilt_x[5] = {6, -4, 8, -6, 4};
+  if (effect == "incidence_angle")
+  {
+    // As in test_lab.cpp: the angle effect needs steep walls.
+    const double t[5] = {0, 30, 50, 60, 70};
+    for (int k = 0; k < 5; ++k)
+      tilt_y[k] = t[k], tilt_x[k] = 0;
+  }
   std::vector<lab::RecordingMeasurement::ConstPtr> out;
   for (int k = 0; k < 5; ++k)
   {
@@ -109,9 +122,10 @@ TEST (ModelLabTexlets, StripesMakePaperTexletsOverconfidentUntilAdded)
 {
   lab::TexletConsistency before, after;
   beforeAndAfter ("vertical_stripes", 22, before, after);
-  // Measured: ratio 4289 (P), 754 (N) under the paper model; 151 and 34 with the stripes added.
-  // Not 1 after: a stripe offsets a whole column, shared by the ~13 columns of a texlet's
-  // disc, while the texlet propagates every pixel's variance as independent.
+  // Measured: ratio 4289 (P), 754 (N) under the paper model; 38.9 and 8.7 with the stripes
+  // added (151 and 34 while TexletEstimation converted disparity with the VGA f b at this
+  // QVGA resolution). Not 1 after: a stripe offsets a whole column, shared by the ~13 columns
+  // of a texlet's disc, while the texlet propagates every pixel's variance as independent.
   EXPECT_GT (before.ratioP (), 100.0);
   EXPECT_GT (before.ratioN (), 100.0);
   EXPECT_LT (after.ratioP (), before.ratioP () / 10);
@@ -128,6 +142,79 @@ TEST (ModelLabTexlets, RadialVarianceFallsWhenAdded)
   EXPECT_LT (after.ratioN (), before.ratioN () - 0.05);
   EXPECT_NEAR (after.ratioP (), 1.0, 0.25);
   EXPECT_NEAR (after.ratioN (), 1.0, 0.25);
+}
+
+TEST (ModelLabTexlets, IncidenceAngleReachesTexletsAtTheirOwnAngle)
+{
+  // Walls at 0 to 70 degrees with the angle effect hidden. TexletEstimation evaluates the
+  // noise per pixel at a frontal view and rescales each texlet's covariances to its own
+  // incidence (normal against viewing ray); before, the angle term did not reach the texlets.
+  lab::ModelLab lab;
+  for (const auto &r : simulatePlanes ("incidence_angle", 23))
+    lab.addRecording (r);
+  const NoiseModel paper = NoiseModel::paper ();
+  const NoiseModel fitted = lab.addEffect (paper, "incidence_angle");
+  NoiseModel frontal (fitted); // what the texlets got before: the angle term at cos = 1 is neutral
+  frontal.remove ("incidence_angle");
+  const lab::TexletConsistency p = lab::texletConsistency (lab.recordings (), paper);
+  const lab::TexletConsistency f = lab::texletConsistency (lab.recordings (), frontal);
+  const lab::TexletConsistency a = lab::texletConsistency (lab.recordings (), fitted);
+  print ("incidence_angle, paper model", p);
+  print ("incidence_angle, + incidence_angle evaluated at a frontal view", f);
+  print ("incidence_angle, + incidence_angle at each texlet's angle", a);
+  ASSERT_GT (a.texlets, 3000);
+  // The paper's texlets are over-confident on steep walls; the fitted angle term, at each
+  // texlet's own angle, brings the NEES of P and N near their ideal, which the same model at a
+  // frontal view does not.
+  EXPECT_GT (p.ratioN (), 1.3);
+  EXPECT_LT (a.ratioN (), f.ratioN () - 0.2);
+  EXPECT_LT (a.ratioP (), f.ratioP () - 0.2);
+  EXPECT_NEAR (a.ratioN (), 1.0, 0.25);
+  EXPECT_NEAR (a.medianRatioN (), 1.0, 0.25);
+  EXPECT_NEAR (a.medianRatioP (), 1.0, 0.25);
+}
+
+TEST (ModelLabTexlets, TexletCovarianceScalesWithItsOwnIncidenceAngle)
+{
+  // A noise-free plane 2 m away, turned 45 degrees about the vertical axis (incidence 16 to 74 degrees over the image), seen by a 320 x 240
+  // pinhole: with an incidence_angle term of gain g in the model, every texlet's covariances
+  // are those of the model without it times the closed-form factor (1 + g (1/cos - 1))^2 at the
+  // texlet's angle between the plane's normal and the ray to the texlet.
+  const double fx = 290, cx = 159.5, cy = 119.5, theta = 45.0 * M_PI / 180.0;
+  const Eigen::Vector3d n (std::sin (theta), 0.0, -std::cos (theta)), p0 (0, 0, 2.0);
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>> (320, 240);
+  for (int v = 0; v < 240; ++v)
+    for (int u = 0; u < 320; ++u)
+    {
+      const Eigen::Vector3d ray ((u - cx) / fx, (v - cy) / fx, 1.0);
+      const double z = n.dot (p0) / n.dot (ray);
+      (*cloud) (u, v).getVector3fMap () = (z * ray).cast<float> ();
+    }
+  NoiseModel with = NoiseModel::paper ();
+  with.add (IncidenceAngleTerm (0.5));
+  pcl::TexletEstimation<pcl::PointXYZ, pcl::Texlet> estimation;
+  estimation.setCameraModel (std::make_shared<PinholeModel> (fx, fx, cx, cy));
+  estimation.setInputCloud (cloud);
+  estimation.setRansacThreshold (1.0);
+  pcl::PointCloud<pcl::Texlet> a, b;
+  estimation.setNoiseModel (NoiseModel::paper ());
+  estimation.compute (a);
+  estimation.setNoiseModel (with);
+  estimation.compute (b);
+  ASSERT_EQ (a.size (), b.size ());
+  int checked = 0;
+  for (std::size_t k = 0; k < a.size (); ++k)
+  {
+    if (!std::isfinite (a[k].x) || !std::isfinite (b[k].x))
+      continue;
+    const Eigen::Vector3d P = a[k].getVector3fMap ().cast<double> ();
+    const double cos_t = std::fabs (n.dot (P)) / P.norm ();
+    const double factor = kernels::incidenceVarianceFactor (0.5, cos_t);
+    EXPECT_NEAR (b[k].cov_p_zz / a[k].cov_p_zz, factor, 2e-3 * factor) << "texlet " << k;
+    EXPECT_NEAR (b[k].cov_n_11 / a[k].cov_n_11, factor, 2e-3 * factor) << "texlet " << k;
+    ++checked;
+  }
+  EXPECT_GT (checked, 500);
 }
 
 TEST (ModelLabTexlets, BadInput)

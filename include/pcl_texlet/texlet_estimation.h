@@ -150,6 +150,18 @@ public:
   const texlet::NoiseModel &
   getNoiseModel () const { return noise_; }
 
+  /** \brief Covariates of the noise model that a cloud does not carry and that are the same for
+    * every pixel of a frame: `frame` (index since power-on, for drift; NaN: steady state),
+    * `fb_px_m` (focal length in px times baseline in m, which converts the disparity-defined
+    * terms to depth; default 580 x 0.075, Kinect v1 at VGA) and `active_projectors`. The
+    * per-pixel covariates (u, v, radius, depth) are filled in for each pixel, and the incidence
+    * angle for each texlet from its normal and viewing ray.
+    */
+  void
+  setNoiseContext (const texlet::PixelContext &context) { noise_context_ = context; }
+  const texlet::PixelContext &
+  getNoiseContext () const { return noise_context_; }
+
   /** \brief Camera model of the input. If none is set, a pinhole is estimated from the
     * organised cloud itself (u = fx x/z + cx, v = fy y/z + cy) at each compute().
     */
@@ -182,6 +194,7 @@ protected:
 private:
   texlet::TexletParameters params_;
   texlet::NoiseModel noise_;
+  texlet::PixelContext noise_context_;
   texlet::CameraModel::ConstPtr camera_;
   unsigned int threads_ = 0;
   std::vector<double> sigma_image_; // per-pixel depth SD in metres, reused across frames

@@ -360,6 +360,7 @@ labReportJson (const LabSession &s)
     cj["threshold"] = c.threshold;
     cj["null_mean"] = c.null_mean;
     cj["null_sd"] = c.null_sd;
+    cj["total_gain_nats"] = c.total_gain;
     cj["applicable"] = c.applicable;
     cj["physics"] = c.physics;
     cj["signature"] = c.signature;
@@ -681,7 +682,9 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
        "sample against the current model refitted on the same half. Significant: the gain exceeds the mean of the "
        "gains the same fit brings on "
     << lab.settings ().null_replicates << " data sets drawn from the current model (no effect missing) by more than "
-    << lab.settings ().null_sigmas << " of their SDs.</p>\n<table><tr><th>#</th><th>effect</th><th>gain (nats/sample)"
+    << lab.settings ().null_sigmas << " of their SDs, and the gain summed over the held-out samples is at least "
+    << lab.settings ().min_total_gain_nats << " nats (a likelihood ratio of at least e^"
+    << lab.settings ().min_total_gain_nats << " on data the fit did not see).</p>\n<table><tr><th>#</th><th>effect</th><th>gain (nats/sample)"
     << "</th><th>threshold</th><th>significant</th><th>sd_rmse_mm</th><th>bias_rmse_mm</th><th>nll</th><th>shows in"
     << "</th><th>physics</th></tr>\n";
   for (std::size_t k = 0; k < s.candidates.size (); ++k)

@@ -63,12 +63,29 @@ struct Bin
   int rec = 0;
 };
 
+/** How the independent noise of a column's (or a frame's) pixels reaches its mean offset: per
+  * covariate bin b, the weight w_b with Var(offset) = sum_b w_b var_b (disparity px^2, var_b the
+  * bin's variance in mm^2). w_b sums (1 - 1/n_i) / (J_i^2 N^2) over the offset's N samples i in
+  * bin b (n_i: pixel i's samples in the half, whose mean is taken out first). The pixels of a
+  * column span every row, so their variances differ (radius and depth change along it): at
+  * 640 x 480 the centre pixel's variance over N under-predicted the column offsets' variance by
+  * up to 28 %, which the stripes candidate took up (docs/model_lab.md section 7).
+  */
+struct BinWeights
+{
+  std::vector<std::pair<int, double>> bins, qbins; // (bin index, weight) in each bin set
+
+  const std::vector<std::pair<int, double>> &
+  of (bool quantised) const { return quantised ? qbins : bins; }
+};
+
 /** The mean offset of one column in the frames of a half. */
 struct ColumnStat
 {
   int rec;
-  PixelContext ctx;
-  double frames = 0, ss = 0, mean_count = 0;
+  PixelContext ctx;     // the column's pixel nearest the principal point's row (shared variances)
+  double frames = 0, ss = 0;
+  BinWeights noise;     // the pixels' noise in the offsets, averaged over the frames
 };
 
 /** The mean offset of one frame. */
@@ -76,7 +93,8 @@ struct FrameStat
 {
   int rec;
   int frame;
-  double D = 0, count = 0, s2 = 0;
+  double D = 0, count = 0;
+  BinWeights noise;     // the pixels' noise in the offset
 };
 
 struct ModelLab::Data
@@ -212,7 +230,9 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
           Dtc[k * W + u] /= Ntc[k * W + u];
     }
 
-    // Per pixel: total and within sums of squares; covariate bins.
+    // Covariate bins (recording, radius, depth, incidence angle, edge distance, and sub-step
+    // phase for the quantised set) of every pixel of the half: the bins' contexts are their
+    // pixels' mean covariates, and the column and frame offsets below average over all pixels.
     double zmin = 1e30, zmax = 0, rmax = 1;
     for (std::size_t i = 0; i < n; ++i)
       if (member[i])
@@ -222,9 +242,58 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
       }
     rmax = std::hypot (std::max (m.camera.cx (), m.width - 1 - m.camera.cx ()),
                        std::max (m.camera.cy (), m.height - 1 - m.camera.cy ())) + 1e-6;
-    // The per-pixel parts use a regular subsample of about 100000 pixels per recording (every
-    // pixel up to 320 x 240, every second one in both directions at 640 x 480): plenty for the
-    // fits, a quarter of the time. The frame and column offsets above use every pixel.
+    const int bins_first = static_cast<int> (d->bins.size ()), qbins_first = static_cast<int> (d->qbins.size ());
+    std::vector<int> bin_at (n, -1), qbin_at (n, -1);
+    for (int v = 0; v < m.height; ++v)
+      for (int u = 0; u < m.width; ++u)
+      {
+        const std::size_t i = static_cast<std::size_t> (v) * m.width + u;
+        if (!member[i])
+          continue;
+        const double rr = m.radius (u, v);
+        const int rb = std::min (7, static_cast<int> (8 * rr / rmax));
+        const int zb = std::min (7, static_cast<int> (8 * (m.surface_mm[i] - zmin) / (zmax - zmin + 1e-6)));
+        const double angle = std::acos (std::min (1.0f, m.cos_incidence[i])) * 57.29577951308232;
+        const int ab = std::min (7, static_cast<int> (angle / 11.25));
+        const float e = m.edge_distance_px[i];
+        const int eb = e < 2.0f ? 0 : (e < 5.0f ? 1 : 2);
+        const int qb = std::min (19, static_cast<int> (20 * m.phase[i]));
+        const std::uint64_t key = ((((static_cast<std::uint64_t> (r) * 8 + rb) * 8 + zb) * 8 + ab) * 3 + eb);
+        const std::uint64_t qkey = key * 20 + qb;
+        for (int which = 0; which < 2; ++which)
+        {
+          auto &map = which ? qbin_of : bin_of;
+          auto &bins = which ? d->qbins : d->bins;
+          const std::uint64_t kk = which ? qkey : key;
+          auto it = map.find (kk);
+          int b;
+          if (it == map.end ())
+          {
+            b = static_cast<int> (bins.size ());
+            map.emplace (kk, b);
+            bins.emplace_back ();
+            bins.back ().rec = static_cast<int> (r);
+            bins.back ().ctx = pixelContext (m, i);
+          }
+          else
+            b = it->second;
+          Bin &B = bins[b];
+          B.su += u;
+          B.sv += v;
+          B.sr += rr;
+          B.sz += m.surface_mm[i];
+          B.scos += m.cos_incidence[i];
+          B.sedge += std::min (e, 1e3f);
+          B.sphase += m.phase[i];
+          B.w += 1;
+          (which ? qbin_at : bin_at)[i] = b;
+        }
+      }
+
+    // Per pixel: total and within sums of squares. The per-pixel parts use a regular subsample
+    // of about 100000 pixels per recording (every pixel up to 320 x 240, every second one in
+    // both directions at 640 x 480): plenty for the fits, a quarter of the time. The frame and
+    // column offsets use every pixel.
     const int stride = std::max (1, static_cast<int> (std::ceil (std::sqrt (double (n) / 100000.0))));
     for (int v = 0; v < m.height; v += stride)
       for (int u = 0; u < m.width; u += stride)
@@ -256,52 +325,62 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         }
         p.ss_total = static_cast<float> (st);
         p.ss_within = static_cast<float> (sw);
-        // Bins: recording, radius, depth, incidence angle, edge distance (and phase).
-        const double rr = m.radius (u, v);
-        const int rb = std::min (7, static_cast<int> (8 * rr / rmax));
-        const int zb = std::min (7, static_cast<int> (8 * (m.surface_mm[i] - zmin) / (zmax - zmin + 1e-6)));
-        const double angle = std::acos (std::min (1.0f, m.cos_incidence[i])) * 57.29577951308232;
-        const int ab = std::min (7, static_cast<int> (angle / 11.25));
-        const float e = m.edge_distance_px[i];
-        const int eb = e < 2.0f ? 0 : (e < 5.0f ? 1 : 2);
-        const int qb = std::min (19, static_cast<int> (20 * m.phase[i]));
-        const std::uint64_t key = ((((static_cast<std::uint64_t> (r) * 8 + rb) * 8 + zb) * 8 + ab) * 3 + eb);
-        const std::uint64_t qkey = key * 20 + qb;
+        p.bin = bin_at[i];
+        p.qbin = qbin_at[i];
         for (int which = 0; which < 2; ++which)
         {
-          auto &map = which ? qbin_of : bin_of;
-          auto &bins = which ? d->qbins : d->bins;
-          const std::uint64_t kk = which ? qkey : key;
-          auto it = map.find (kk);
-          int b;
-          if (it == map.end ())
-          {
-            b = static_cast<int> (bins.size ());
-            map.emplace (kk, b);
-            bins.emplace_back ();
-            bins.back ().rec = static_cast<int> (r);
-            bins.back ().ctx = pixelContext (m, i);
-          }
-          else
-            b = it->second;
-          Bin &B = bins[b];
+          Bin &B = (which ? d->qbins : d->bins)[which ? p.qbin : p.bin];
           B.dof += p.n - 1;
           B.ssw += p.ss_within;
           B.npix += 1;
           B.sum_log_n += p.log_n;
-          B.su += u;
-          B.sv += v;
-          B.sr += rr;
-          B.sz += m.surface_mm[i];
-          B.scos += m.cos_incidence[i];
-          B.sedge += std::min (e, 1e3f);
-          B.sphase += m.phase[i];
-          B.w += 1;
-          (which ? p.qbin : p.bin) = b;
         }
         d->samples += p.n;
         d->px.push_back (p);
       }
+
+    // How the pixels' independent noise reaches the column and frame offsets (BinWeights).
+    const int F = static_cast<int> (frames.size ());
+    const int nb = static_cast<int> (d->bins.size ()) - bins_first, nq = static_cast<int> (d->qbins.size ()) - qbins_first;
+    std::vector<double> col_w (static_cast<std::size_t> (W) * nb, 0.0), col_q (static_cast<std::size_t> (W) * nq, 0.0);
+    std::vector<double> frame_w (static_cast<std::size_t> (F) * nb, 0.0), frame_q (static_cast<std::size_t> (F) * nq, 0.0);
+    std::vector<double> col_frames (W, 0.0);
+    for (int u = 0; u < W; ++u)
+      for (int k = 0; k < F; ++k)
+        col_frames[u] += Ntc[k * W + u] > 1 ? 1.0 : 0.0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      if (!member[i])
+        continue;
+      const int u = static_cast<int> (i % W);
+      const int b = bin_at[i] - bins_first, q = qbin_at[i] - qbins_first;
+      const double base = (1.0 - 1.0 / count[i]) / (double (J[i]) * J[i]);
+      double in_columns = 0;
+      for (int k = 0; k < F; ++k)
+      {
+        if (!m.at (frames[k], i))
+          continue;
+        const double nc = Ntc[k * W + u];
+        if (nc > 1)
+          in_columns += 1.0 / (nc * nc);
+        if (Nt[k] >= 2)
+        {
+          frame_w[static_cast<std::size_t> (k) * nb + b] += base / (Nt[k] * Nt[k]);
+          frame_q[static_cast<std::size_t> (k) * nq + q] += base / (Nt[k] * Nt[k]);
+        }
+      }
+      if (col_frames[u] > 0)
+      {
+        col_w[static_cast<std::size_t> (u) * nb + b] += base * in_columns / col_frames[u];
+        col_q[static_cast<std::size_t> (u) * nq + q] += base * in_columns / col_frames[u];
+      }
+    }
+    const auto sparse = [] (const double *w, int count, int first, std::vector<std::pair<int, double>> &out) {
+      out.clear ();
+      for (int b = 0; b < count; ++b)
+        if (w[b] > 0)
+          out.emplace_back (first + b, w[b]);
+    };
 
     // Columns and frames.
     std::vector<double> best_dist (W, 1e30);
@@ -324,17 +403,16 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
       ColumnStat c;
       c.rec = static_cast<int> (r);
       c.ctx = pixelContext (m, best_index[u]);
-      double cnt = 0;
       for (std::size_t k = 0; k < frames.size (); ++k)
         if (Ntc[k * W + u] > 1)
         {
           c.frames += 1;
           c.ss += Dtc[k * W + u] * Dtc[k * W + u];
-          cnt += Ntc[k * W + u];
         }
       if (c.frames < 1)
         continue;
-      c.mean_count = cnt / c.frames;
+      sparse (&col_w[static_cast<std::size_t> (u) * nb], nb, bins_first, c.noise.bins);
+      sparse (&col_q[static_cast<std::size_t> (u) * nq], nq, qbins_first, c.noise.qbins);
       d->cols.push_back (c);
     }
     std::size_t centre = 0;
@@ -359,10 +437,8 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
       f.frame = frames[k];
       f.D = Dt[k];
       f.count = Nt[k];
-      double s2 = 0;
-      for (int u = 0; u < W; ++u)
-        s2 += Ntc[k * W + u] * Ntc[k * W + u];
-      f.s2 = s2 / (Nt[k] * Nt[k]);
+      sparse (&frame_w[k * nb], nb, bins_first, f.noise.bins);
+      sparse (&frame_q[k * nq], nq, qbins_first, f.noise.qbins);
       d->frames.push_back (f);
     }
   }
@@ -602,6 +678,30 @@ frameDependent (const NoiseModel &model)
   return hasTerm (model, "temporal_drift");
 }
 
+/** Variance (disparity px^2) that the pixels' independent noise gives an offset whose noise
+  * weights are \a w, from the bins' variances in \a s (the set the model uses).
+  */
+double
+pixelNoiseIn (const BinWeights &w, bool quantised, const StaticState &s)
+{
+  double v = 0;
+  for (const auto &bw : w.of (quantised))
+    v += bw.second * s.bin_var[bw.first];
+  return v;
+}
+
+/** Predicted variance (disparity px^2) of a column's mean offset about its frame's mean: the
+  * model's column-shared variance less the part shared by the whole frame (taken out with the
+  * frame's mean), plus the noise of the mean of the column's pixels.
+  */
+double
+columnOffsetVariance (const ModelView &mv, const ColumnStat &c, const StaticState &s)
+{
+  const NoiseMoments m = mv.without_grid.moments (c.ctx);
+  const double J = kernels::depthPerDisparityMm (c.ctx.true_depth_mm, c.ctx.fb_px_m);
+  return (m.column_variance_mm2 - m.frame_variance_mm2) / (J * J) + pixelNoiseIn (c.noise, mv.quantised, s);
+}
+
 /** The NLL (sum, not per sample) of a half under a model, on bins. */
 double
 objective (const ModelView &mv, const ModelLab::Data &d, const StaticState &s, bool with_static = true)
@@ -618,16 +718,14 @@ objective (const ModelView &mv, const ModelLab::Data &d, const StaticState &s, b
   }
   for (const ColumnStat &c : d.cols)
   {
-    const NoiseMoments m = mv.without_grid.moments (c.ctx);
+    const double v = columnOffsetVariance (mv, c, s);
     const double J = kernels::depthPerDisparityMm (c.ctx.true_depth_mm, c.ctx.fb_px_m);
-    // The column offsets are measured about the frame's mean, which takes the shared part out.
-    const double v = (m.column_variance_mm2 - m.frame_variance_mm2 + floorVar (mv.model, m.variance_mm2) / c.mean_count) / (J * J);
     L += 0.5 * c.frames * std::log (kTwoPi * v) + c.ss / (2 * v) + c.frames * std::log (J);
   }
   const bool timed = frameDependent (mv.model);
   std::vector<double> pred;
   int current = -1;
-  double J = 1, var = 1, frame_var = 0;
+  double J = 1, frame_var = 0;
   for (std::size_t k = 0; k < d.frames.size (); ++k)
   {
     const FrameStat &f = d.frames[k];
@@ -637,7 +735,6 @@ objective (const ModelView &mv, const ModelLab::Data &d, const StaticState &s, b
       const PixelContext &ctx = d.rep[f.rec];
       const NoiseMoments m = mv.without_grid.moments (ctx);
       J = kernels::depthPerDisparityMm (ctx.true_depth_mm, ctx.fb_px_m);
-      var = floorVar (mv.model, m.variance_mm2);
       frame_var = m.frame_variance_mm2;
       pred.assign (d.frame_list[f.rec].size (), 0.0);
       if (timed)
@@ -654,7 +751,7 @@ objective (const ModelView &mv, const ModelLab::Data &d, const StaticState &s, b
     }
     const auto &list = d.frame_list[f.rec];
     const std::size_t j = std::lower_bound (list.begin (), list.end (), f.frame) - list.begin ();
-    const double v = (var / f.count + frame_var) / (J * J);
+    const double v = pixelNoiseIn (f.noise, mv.quantised, s) + frame_var / (J * J);
     const double e = f.D - pred[j];
     L += 0.5 * std::log (kTwoPi * v) + e * e / (2 * v) + std::log (J);
   }
@@ -1008,12 +1105,7 @@ synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<
     p.disparity = static_cast<float> (disparity);
   }
   for (ColumnStat &c : out->cols)
-  {
-    const NoiseMoments m = no_grid.moments (c.ctx);
-    const double J = kernels::depthPerDisparityMm (c.ctx.true_depth_mm, c.ctx.fb_px_m);
-    const double v = (m.column_variance_mm2 - m.frame_variance_mm2 + floorVar (model, m.variance_mm2) / c.mean_count) / (J * J);
-    c.ss = v * chi2 (c.frames);
-  }
+    c.ss = columnOffsetVariance (mv, c, s) * chi2 (c.frames);
   const bool timed = frameDependent (model);
   for (FrameStat &f : out->frames)
   {
@@ -1028,7 +1120,7 @@ synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<
         mean += frameBias (no_grid, ctx, t) / J;
       pred = frameBias (no_grid, ctx, f.frame) / J - mean / d.frame_list[f.rec].size ();
     }
-    const double v = (floorVar (model, m.variance_mm2) / f.count + m.frame_variance_mm2) / (J * J);
+    const double v = pixelNoiseIn (f.noise, mv.quantised, s) + m.frame_variance_mm2 / (J * J);
     f.D = pred + gauss (rng) * std::sqrt (v);
   }
   return out;
@@ -1330,7 +1422,8 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     c.null_mean = mean;
     c.null_sd = g.size () > 1 ? std::sqrt (var / (g.size () - 1)) : 0.0;
     c.threshold = mean + settings_.null_sigmas * c.null_sd;
-    c.significant = c.gain > c.threshold && c.gain > 0;
+    c.total_gain = c.gain * B.samples;
+    c.significant = c.gain > c.threshold && c.gain > 0 && c.total_gain >= settings_.min_total_gain_nats;
   }
   std::stable_sort (out.begin (), out.end (), [] (const Candidate &a, const Candidate &b) {
     if (a.applicable != b.applicable)

@@ -77,6 +77,11 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
     info.height = rec->height;
     estimation.setCameraModel (std::make_shared<PinholeModel> (PinholeModel::fromCameraInfo (info)));
     estimation.setSpacing (settings.spacing_px > 0 ? settings.spacing_px : std::max (2, rec->width / 32));
+    // What the recording knows beyond its frames: f b (disparity-defined terms at this
+    // resolution) and the active projectors; the frame index is set per frame below.
+    PixelContext context;
+    context.fb_px_m = rec->fb ();
+    context.active_projectors = rec->active_projectors;
 
     // Evenly spaced frames; the default hexagonal grid depends only on the image size, so
     // texlet k is the same centre pixel in every frame.
@@ -96,6 +101,8 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
       frame.depth_mm.assign (rec->depth_mm.begin () + static_cast<std::ptrdiff_t> (t * n_px),
                              rec->depth_mm.begin () + static_cast<std::ptrdiff_t> ((t + 1) * n_px));
       depthToCloud (frame, *estimation.getCameraModel (), *cloud);
+      context.frame = t;
+      estimation.setNoiseContext (context);
       estimation.setInputCloud (cloud);
       try
       {

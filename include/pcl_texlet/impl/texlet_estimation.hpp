@@ -37,11 +37,14 @@ PCL_EXPORTS void
 computeTexletKernel (const kernels::Neighbourhood<double> &nb, const kernels::TexletSettings<double> &settings,
                      std::uint32_t texlet, unsigned char *mask, double *work, kernels::TexletResult<double> &out);
 
-/** \brief Depth SD in metres of a point at pixel (u, v) and depth z (metres). */
+/** \brief Depth SD in metres of a point at pixel (u, v) and depth z (metres); the covariates
+  * a frame does not carry (frame index, f b, projectors) come from \a base.
+  */
 inline double
-depthSigmaMetres (const NoiseModel &noise, const CameraModel &camera, int u, int v, double z)
+depthSigmaMetres (const NoiseModel &noise, const CameraModel &camera, int u, int v, double z,
+                  const PixelContext &base = PixelContext ())
 {
-  PixelContext ctx;
+  PixelContext ctx = base;
   ctx.u = u;
   ctx.v = v;
   ctx.radius_px = camera.principalPointDistance (u, v);
@@ -56,11 +59,22 @@ template <typename PointInT>
 class TexletWorker
 {
 public:
-  /** \param sigma_m per-pixel depth SD in metres, or null to evaluate the noise model here */
+  /** \param sigma_m per-pixel depth SD in metres, or null to evaluate the noise model here
+    * \param context the noise model's covariates that a frame does not carry (frame index, f b,
+    *        projectors), or null for the defaults
+    */
   TexletWorker (const pcl::PointCloud<PointInT> &cloud, const TexletParameters &params, const CameraModel &camera,
-                const NoiseModel &noise, const double *sigma_m)
-    : cloud_ (cloud), params_ (params), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m)
+                const NoiseModel &noise, const double *sigma_m, const PixelContext *context = nullptr)
+    : cloud_ (cloud), params_ (params), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m),
+      context_ (context ? *context : PixelContext ())
   {
+    // Does the model's variance depend on the incidence angle? Then each texlet's covariances
+    // are rescaled to its own viewing angle (see viewingAngleScale).
+    PixelContext a = context_, b = context_;
+    a.depth_mm = b.depth_mm = 2000.0;
+    b.cos_incidence = 0.5;
+    const double sa = noise.sigmaMm (a), sb = noise.sigmaMm (b);
+    angle_dependent_ = std::isfinite (sa) && std::isfinite (sb) && sa != sb;
     const int n = kernels::pixelDiscSize (params.radius);
     du_.resize (n);
     dv_.resize (n);
@@ -173,6 +187,14 @@ public:
     out.curvature = static_cast<float> (r.curvature);
     out.radius = static_cast<float> (r.radius);
     out.support = static_cast<std::uint32_t> (r.support);
+    if (need_sigma && angle_dependent_)
+    {
+      const double f = viewingAngleScale (cu, cv, r);
+      for (double &c : r.cov_p)
+        c *= f;
+      for (double &c : r.cov_n)
+        c *= f;
+    }
     setCovariances (r.cov_p, r.cov_n, out);
     out.pixel_index = static_cast<std::uint32_t> (centre);
     meanColour (count, out);
@@ -198,7 +220,33 @@ private:
   double
   modelSigma (int u, int v, double z) const
   {
-    return depthSigmaMetres (noise_, camera_, u, v, z);
+    return depthSigmaMetres (noise_, camera_, u, v, z, context_);
+  }
+
+  /** The depth variances are evaluated per pixel before the fit, at a frontal view (a pixel
+    * alone has no normal). Once the texlet's normal is known, the model's variance at the
+    * centre pixel for the texlet's own incidence angle (between N and the viewing ray) over
+    * that at a frontal view scales every disc point's variance alike, and so (first-order
+    * propagation is linear in the variances) Sigma_P and Sigma_N.
+    */
+  double
+  viewingAngleScale (int cu, int cv, const kernels::TexletResult<double> &r) const
+  {
+    const double rx = r.P.x - params_.viewpoint[0], ry = r.P.y - params_.viewpoint[1], rz = r.P.z - params_.viewpoint[2];
+    const double rn = std::sqrt (rx * rx + ry * ry + rz * rz);
+    const double nn = std::sqrt (r.N.x * r.N.x + r.N.y * r.N.y + r.N.z * r.N.z);
+    if (!(rn > 0) || !(nn > 0))
+      return 1.0;
+    PixelContext ctx = context_;
+    ctx.u = cu;
+    ctx.v = cv;
+    ctx.radius_px = camera_.principalPointDistance (cu, cv);
+    ctx.depth_mm = r.P.z * 1000.0;
+    const double frontal = noise_.sigmaMm (ctx);
+    ctx.cos_incidence = std::min (1.0, std::fabs (r.N.x * rx + r.N.y * ry + r.N.z * rz) / (rn * nn));
+    const double oblique = noise_.sigmaMm (ctx);
+    const double f = oblique * oblique / (frontal * frontal);
+    return std::isfinite (f) && f > 0 ? f : 1.0;
   }
 
   template <typename PointOutT> static void
@@ -252,6 +300,8 @@ private:
   const CameraModel &camera_;
   const NoiseModel &noise_;
   const double *sigma_m_;
+  PixelContext context_;
+  bool angle_dependent_ = false;
   kernels::TexletSettings<double> settings_;
   std::vector<int> du_, dv_;
   std::vector<std::ptrdiff_t> offset_; // dv * width + du of each disc pixel
@@ -431,12 +481,12 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
         {
           const PointInT &p = cloud (u, v);
           sigma_image_[static_cast<std::size_t> (v) * w + u] =
-              texlet::isValidDepthPoint (p) ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z)
+              texlet::isValidDepthPoint (p) ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z, noise_context_)
                                             : std::numeric_limits<double>::quiet_NaN ();
         }
     }
     texlet::detail::TexletWorker<PointInT> worker (cloud, params_, *camera, noise_,
-                                                   need_sigma ? sigma_image_.data () : nullptr);
+                                                   need_sigma ? sigma_image_.data () : nullptr, &noise_context_);
 #pragma omp for schedule(dynamic, 64)
     for (std::ptrdiff_t i = 0; i < n; ++i)
       made += worker.compute ((*indices_)[i], output[i]) ? 1 : 0;
