@@ -3,6 +3,10 @@
  * through libpng) and RecordingFolderReader reading the input as the frame of a one-frame
  * recording folder (camera.yaml of 8 x 6 pixels, written once). A frame that reads must hold
  * width x height samples.
+ *
+ * Every chunk's CRC is recomputed before the file is written (a mutated chunk would otherwise
+ * nearly always fail libpng's CRC check, and the fuzzer would never get past it); a CRC error is
+ * still covered by the seed corpus and by test_recording.
  */
 #include "fuzz_input_file.h"
 
@@ -10,6 +14,9 @@
 #include <pcl/exceptions.h>
 
 #include <cstdlib>
+#include <vector>
+
+#include <zlib.h>
 
 namespace
 {
@@ -32,11 +39,33 @@ recordingFolder ()
   return folder;
 }
 
+/** The input with the CRC of each complete chunk after the signature recomputed. */
+std::vector<std::uint8_t>
+withChunkCrcsFixed (const std::uint8_t *data, std::size_t size)
+{
+  std::vector<std::uint8_t> png (data, data + size);
+  std::size_t at = 8; // after the signature
+  while (at + 12 <= png.size ())
+  {
+    const std::size_t length = (std::size_t (png[at]) << 24) | (std::size_t (png[at + 1]) << 16) |
+                               (std::size_t (png[at + 2]) << 8) | png[at + 3];
+    if (length > png.size () - at - 12)
+      break;
+    const uLong crc = crc32 (0L, png.data () + at + 4, static_cast<uInt> (length + 4));
+    std::uint8_t *out = png.data () + at + 8 + length;
+    out[0] = std::uint8_t (crc >> 24), out[1] = std::uint8_t (crc >> 16), out[2] = std::uint8_t (crc >> 8), out[3] = std::uint8_t (crc);
+    at += length + 12;
+  }
+  return png;
+}
+
 } // namespace
 
 extern "C" int
 LLVMFuzzerTestOneInput (const std::uint8_t *data, std::size_t size)
 {
+  const std::vector<std::uint8_t> png = withChunkCrcsFixed (data, size);
+  data = png.data ();
   const std::string path = pcl_texlet_fuzz::writeInput ("frame.png", data, size);
   int w = -1, h = -1;
   try
