@@ -44,7 +44,10 @@ LLVMFuzzerTestOneInput (const std::uint8_t *data, std::size_t size)
 
   pcl::texlet::TexletParameters p;
   p.spacing = in.ConsumeIntegralInRange<int> (-1, 12);
-  p.radius = in.ConsumeIntegralInRange<int> (0, 70);
+  // Radii up to 12 px; the limits (64 valid, 65 refused) only on tiny images, where they are cheap.
+  p.radius = in.ConsumeIntegralInRange<int> (0, 12);
+  if (width * height <= 64 && in.ConsumeBool ())
+    p.radius = in.ConsumeIntegralInRange<int> (63, 65);
   p.ransac_iterations = in.ConsumeIntegralInRange<int> (0, 12);
   p.ransac_threshold = in.ConsumeBool () ? in.ConsumeFloatingPoint<double> () : in.ConsumeFloatingPointInRange<double> (0.0, 0.05);
   p.threshold_sigmas = in.ConsumeBool () ? in.ConsumeFloatingPoint<double> () : in.ConsumeFloatingPointInRange<double> (0.1, 5.0);
