@@ -14,6 +14,7 @@ packages=(
   libpng-dev libtiff-dev
   gnuplot-nox
   xvfb xauth libgl1-mesa-dri
+  clang   # the libFuzzer targets (PCL_TEXLET_FUZZ, docs/fuzzing.md): clang-14 with libclang_rt.fuzzer
 )
 
 # Skip apt entirely when everything is already there (fast re-runs in CI).

@@ -54,6 +54,17 @@ finiteValue (const YAML::Node &node, const std::string &source, const std::strin
   return x;
 }
 
+/** \brief A key's or name's text. yaml-cpp's own conversion throws YAML::BadConversion for a
+  * list or map (e.g. the complex key `? - a`), which is not the pcl::IOException callers expect.
+  */
+std::string
+scalarText (const YAML::Node &node, const std::string &source, const std::string &what)
+{
+  if (!node.IsScalar ())
+    fail (source, what + " must be a plain name, not a list or map");
+  return node.Scalar ();
+}
+
 } // namespace
 
 std::string
@@ -103,7 +114,7 @@ parseNoiseModelYaml (const std::string &yaml, const std::string &source)
     fail (source, "not a YAML map with a 'terms' list");
   for (const auto &kv : root)
   {
-    const std::string key = kv.first.as<std::string> ();
+    const std::string key = scalarText (kv.first, source, "a key");
     if (key != "terms" && key != "min_sigma_mm")
       fail (source, "unknown key '" + key + "' (known: min_sigma_mm, terms)");
   }
@@ -125,7 +136,7 @@ parseNoiseModelYaml (const std::string &yaml, const std::string &source)
     const std::string where = "term " + std::to_string (k + 1);
     if (!t.IsMap () || !t["name"])
       fail (source, where + " has no name");
-    const std::string name = t["name"].as<std::string> ();
+    const std::string name = scalarText (t["name"], source, where + "'s name");
     if (!seen.insert (name).second)
       fail (source, "term '" + name + "' is listed twice");
     NoiseTerm::Ptr term;
@@ -139,7 +150,7 @@ parseNoiseModelYaml (const std::string &yaml, const std::string &source)
     }
     for (const auto &kv : t)
     {
-      const std::string key = kv.first.as<std::string> ();
+      const std::string key = scalarText (kv.first, source, "a key of term '" + name + "'");
       if (key != "name" && key != "settings" && key != "parameters")
         fail (source, "term '" + name + "': unknown key '" + key + "' (known: name, settings, parameters)");
     }
@@ -150,7 +161,7 @@ parseNoiseModelYaml (const std::string &yaml, const std::string &source)
         fail (source, "term '" + name + "': 'settings' must be a map of the term's settings");
       for (const auto &kv : t["settings"])
       {
-        const std::string key = kv.first.as<std::string> ();
+        const std::string key = scalarText (kv.first, source, "a key of term '" + name + "'");
         try
         {
           effect->setSetting (key, finiteValue (kv.second, source, "term '" + name + "' setting " + key));
@@ -168,7 +179,7 @@ parseNoiseModelYaml (const std::string &yaml, const std::string &source)
     std::map<std::string, double> given;
     for (const auto &kv : params)
     {
-      const std::string key = kv.first.as<std::string> ();
+      const std::string key = scalarText (kv.first, source, "a key of term '" + name + "'");
       given[key] = finiteValue (kv.second, source, "term '" + name + "' parameter " + key);
     }
     std::vector<double> values;

@@ -365,6 +365,15 @@ readPng (const std::string &path, PngKind kind, int &width, int &height)
     throw error ("image size " + std::to_string (header.width) + "x" + std::to_string (header.height) +
                  " is beyond the " + std::to_string (kMaxImageSide) + " pixels a side of any depth sensor (corrupt header?)");
   const std::size_t row_elements = std::size_t (header.width) * channels;
+  // A header of a few bytes may claim up to 10^12 pixels (found by fuzz_depth_png). Deflate
+  // expands at most 1032:1, so a file cannot hold more than 1032 times its size of filtered rows
+  // (a row is its samples plus one filter byte); a larger claim is corrupt, and refusing it here
+  // keeps a tiny file from making us allocate terabytes.
+  const std::uintmax_t file_bytes = fs::file_size (path, ec);
+  const double row_bytes = double (row_elements) * sizeof (T) + 1.0;
+  if (!ec && double (header.height) * row_bytes > 1032.0 * double (file_bytes) + 1024.0)
+    throw error ("the header's " + std::to_string (header.width) + " x " + std::to_string (header.height) +
+                 " pixels cannot be held in the file's " + std::to_string (file_bytes) + " bytes (corrupt header)");
   std::vector<T> pixels (row_elements * header.height);
   if (!readPngRows (&ctx, &header, reinterpret_cast<unsigned char *> (pixels.data ()), row_elements * sizeof (T)))
     throw libpngFailure (ctx);

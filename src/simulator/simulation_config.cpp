@@ -43,6 +43,17 @@ configError (const std::string &source, const std::string &problem)
   return pcl::IOException (source + ": " + problem);
 }
 
+/** \brief A key's text. yaml-cpp's own conversion throws YAML::BadConversion for a list or map
+  * as a key (e.g. `{[a]: 1}`), which is not the pcl::IOException callers expect.
+  */
+std::string
+keyText (const YAML::Node &key, const std::string &where, const std::string &source)
+{
+  if (!key.IsScalar ())
+    throw configError (source, "a key of " + where + " must be a plain name, not a list or map");
+  return key.Scalar ();
+}
+
 bool
 asBool (const YAML::Node &node, const std::string &key, const std::string &source)
 {
@@ -91,7 +102,7 @@ applyEffect (const std::string &name, const YAML::Node &value, SensorEffects &ef
     bool enabled = true; // listing an effect's parameters switches it on unless told otherwise
     for (const auto &entry : value)
     {
-      const std::string param = entry.first.as<std::string> ();
+      const std::string param = keyText (entry.first, key, source);
       if (param == "enabled")
         enabled = asBool (entry.second, key + ".enabled", source);
       else
@@ -129,7 +140,7 @@ parseSimulationConfig (const std::string &yaml, SimulationSettings &settings, co
   SimulationSettings result = settings;
   for (const auto &entry : root)
   {
-    const std::string key = entry.first.as<std::string> ();
+    const std::string key = keyText (entry.first, "the config", source);
     const YAML::Node &value = entry.second;
     if (key == "base_noise")
     {
@@ -155,7 +166,7 @@ parseSimulationConfig (const std::string &yaml, SimulationSettings &settings, co
       if (!value.IsMap ())
         throw configError (source, "effects must be a map from effect names to true, false or parameters");
       for (const auto &effect : value)
-        applyEffect (effect.first.as<std::string> (), effect.second, result.effects, source);
+        applyEffect (keyText (effect.first, "effects", source), effect.second, result.effects, source);
     }
     else if (!metaOnlyKeys ().count (key))
       throw configError (source, "unknown key '" + key + "' (expected base_noise, projector_shadows, effects)");

@@ -1,0 +1,24 @@
+# Sanitizer and fuzzing builds (docs/fuzzing.md).
+#
+# PCL_TEXLET_SANITIZE: every target (library, apps, tests) with AddressSanitizer and
+# UndefinedBehaviorSanitizer; any undefined behaviour aborts (-fno-sanitize-recover), so the test
+# suite fails on it. GCC or clang. scripts/run_sanitizer_tests.sh builds it in build-asan/.
+#
+# PCL_TEXLET_FUZZ: the libFuzzer targets in test/fuzz/ (needs clang). The library is compiled
+# with coverage instrumentation for libFuzzer (-fsanitize=fuzzer-no-link) and with ASan+UBSan, so
+# the fuzzers see into it; each target links -fsanitize=fuzzer.
+option(PCL_TEXLET_SANITIZE "Build everything with AddressSanitizer and UndefinedBehaviorSanitizer" OFF)
+option(PCL_TEXLET_FUZZ "Build the libFuzzer targets in test/fuzz (needs clang; implies ASan+UBSan)" OFF)
+
+if(PCL_TEXLET_SANITIZE OR PCL_TEXLET_FUZZ)
+  set(_pcl_texlet_san_flags -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  add_compile_options(${_pcl_texlet_san_flags})
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
+if(PCL_TEXLET_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "PCL_TEXLET_FUZZ needs clang (libFuzzer): configure with -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang")
+  endif()
+  add_compile_options(-fsanitize=fuzzer-no-link)
+endif()
