@@ -767,6 +767,13 @@ struct OniReader::Playback
     released (&item);
   }
 
+  /** \brief Waits (bounded) for the next queued depth frame, poking the player as needed.
+    * \throws pcl::IOException on a timeout or a failure in the callback; \a delivered counts the
+    * frame given up then.
+    */
+  Item
+  take (const std::string &what, double timeout_s, std::size_t &delivered, std::size_t size);
+
   void
   poke ()
   {
@@ -789,7 +796,15 @@ OniReader::OniReader (const std::string &file, double timeout_s) : file_ (file),
     throw pcl::IOException (what + "is not a file");
   if (lowerExtension (file) != ".oni")
     throw pcl::IOException (what + "is not an .oni file (OpenNI2 plays only files named *.oni)");
+  startPlayback ();
+}
 
+void
+OniReader::startPlayback ()
+{
+  const std::string &file = file_;
+  const std::string what = ".oni file '" + file + "': ";
+  playback_.reset (); // one OpenNI2 context at a time: the old one shuts down first
   playback_ = std::make_unique<Playback> ();
   Playback &p = *playback_;
   try
@@ -874,17 +889,20 @@ OniReader::OniReader (const std::string &file, double timeout_s) : file_ (file),
   }
 }
 
-bool
-OniReader::next (DepthFrame &frame)
+namespace
 {
-  if (delivered_ >= size_)
-    return false;
-  Playback &p = *playback_;
-  const std::string what = ".oni file '" + file_ + "': ";
-  Playback::Item item;
+/** \brief How often next () replays a recording from its start to recover a frame OpenNI2 lost. */
+constexpr int kOniReplays = 3;
+} // namespace
+
+OniReader::Playback::Item
+OniReader::Playback::take (const std::string &what, double timeout_s, std::size_t &delivered, std::size_t size)
+{
+  Playback &p = *this;
+  Item item;
   {
     std::unique_lock<std::mutex> lock (p.mutex);
-    const auto deadline = std::chrono::steady_clock::now () + std::chrono::duration<double> (timeout_s_);
+    const auto deadline = std::chrono::steady_clock::now () + std::chrono::duration<double> (timeout_s);
     while (p.queue.empty () && p.error.empty ())
     {
       if (!p.poke_pending)
@@ -900,16 +918,16 @@ OniReader::next (DepthFrame &frame)
         // A record that never came (the file ends early, or OpenNI2 skipped it): the next call
         // pokes afresh rather than waiting on this one again.
         p.poke_pending = false;
-        ++delivered_; // the frame is given up, like a bad frame of the other readers
+        ++delivered; // the frame is given up, like a bad frame of the other readers
         std::ostringstream msg;
-        msg << what << "frame " << delivered_ << " of " << size_ << " did not arrive within " << timeout_s_
+        msg << what << "frame " << delivered << " of " << size << " did not arrive within " << timeout_s
             << " s (truncated or corrupt recording?)";
         throw pcl::IOException (msg.str ());
       }
     }
     if (!p.error.empty ())
     {
-      ++delivered_;
+      ++delivered;
       const std::string error = p.error;
       p.error.clear ();
       throw pcl::IOException (what + error);
@@ -918,16 +936,39 @@ OniReader::next (DepthFrame &frame)
     p.queue.pop_front ();
   }
   p.changed.notify_all ();
-  ++delivered_;
+  return item;
+}
 
-  // OpenNI2's recorder numbers frames 1, 2, 3, ...; a gap means playback lost frames.
-  if (p.have_index && item.index != p.last_index + 1)
+bool
+OniReader::next (DepthFrame &frame)
+{
+  if (delivered_ >= size_)
+    return false;
+  const std::string what = ".oni file '" + file_ + "': ";
+  Playback::Item item = playback_->take (what, timeout_s_, delivered_, size_);
+
+  // OpenNI2's recorder numbers frames 1, 2, 3, ...; a gap means playback lost frames. OpenNI2
+  // 2.2's manual-mode player does now and then drop a record on a loaded machine, so playback
+  // starts again from the beginning and skips up to the lost frame (a few times at most).
+  const bool have_index = playback_->have_index;
+  const unsigned previous = playback_->last_index;
+  for (int replay = 0; have_index && item.index != previous + 1; ++replay)
   {
-    const unsigned previous = p.last_index;
-    p.last_index = item.index;
-    throw pcl::IOException (what + "frame index " + std::to_string (item.index) + " followed " +
-                            std::to_string (previous) + ": playback lost or reordered frames");
+    if (replay == kOniReplays || item.index < previous + 1)
+    {
+      ++delivered_;
+      playback_->last_index = item.index;
+      throw pcl::IOException (what + "frame index " + std::to_string (item.index) + " followed " +
+                              std::to_string (previous) + ": playback lost or reordered frames (" +
+                              std::to_string (replay) + " replays from the start did not recover it)");
+    }
+    startPlayback ();
+    do
+      item = playback_->take (what, timeout_s_, delivered_, size_);
+    while (item.index < previous + 1);
   }
+  ++delivered_;
+  Playback &p = *playback_;
   p.have_index = true;
   p.last_index = item.index;
   if (item.width != info_.width || item.height != info_.height)

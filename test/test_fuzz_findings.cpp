@@ -125,10 +125,16 @@ TEST (FuzzFindings, SimulationConfigComplexKeyIsAClearError)
 TEST (FuzzFindings, PngHeaderClaimingMoreThanTheFileHoldsIsAClearError)
 {
   int w = -1, h = -1;
+  // Claims beyond any sensor's size are refused by the side limit (docs/inputs.md) ...
   const ScratchFile depth ("huge_depth.png", pngClaiming (1000000, 1000000, 16, 0));
-  expectClearError ([&] { readDepthPng (depth.path, w, h); }, {depth.path, "1000000 x 1000000", "corrupt header"});
+  expectClearError ([&] { readDepthPng (depth.path, w, h); }, {depth.path, "1000000x1000000", "corrupt header"});
   const ScratchFile rgb ("huge_rgb.png", pngClaiming (200000, 3000, 8, 2));
-  expectClearError ([&] { readRgbPng (rgb.path, w, h); }, {rgb.path, "200000 x 3000", "corrupt header"});
+  expectClearError ([&] { readRgbPng (rgb.path, w, h); }, {rgb.path, "200000x3000", "corrupt header"});
+  // ... and claims within it (here 512 MB and 144 MB of pixels) by what the small file can hold.
+  const ScratchFile big_depth ("big_depth.png", pngClaiming (16000, 16000, 16, 0));
+  expectClearError ([&] { readDepthPng (big_depth.path, w, h); }, {big_depth.path, "16000 x 16000", "corrupt header"});
+  const ScratchFile big_rgb ("big_rgb.png", pngClaiming (16000, 3000, 8, 2));
+  expectClearError ([&] { readRgbPng (big_rgb.path, w, h); }, {big_rgb.path, "16000 x 3000", "corrupt header"});
   // Small claims with too little data stay libpng's own error (truncated or corrupt data).
   const ScratchFile small ("small_depth.png", pngClaiming (64, 48, 16, 0));
   expectClearError ([&] { readDepthPng (small.path, w, h); }, {small.path});

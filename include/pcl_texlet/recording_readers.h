@@ -186,6 +186,10 @@ public:
 
 private:
   struct Playback;
+  /** \brief Opens the file's playback (again, from its first frame) and reads its stream's info. */
+  void
+  startPlayback ();
+
   std::string file_;
   double timeout_s_;
   CameraInfo info_;
