@@ -647,9 +647,11 @@ GrabberTiffReader::isGrabberTiffFolder (const std::string &folder)
 //   early; the frame indices are checked, so that shows as an error, not as silently lost frames.)
 // - Opening the same file with openni::Device reaches the grabber's device (OpenNI2 shares open
 //   devices by URI and counts references): repeat is switched off and manual mode on through it.
-// - Two streams with frame listeners in one reader (the grabber's and one of ours) make OpenNI2
-//   crash in the listener thread of the next reader in the process: the reader's own streams have
-//   no listener; it reads them with readFrame.
+// - Every thread that calls libOpenNI2 (each grabber's stream listener does) leaves an error
+//   buffer that libOpenNI2 never frees and later asks pthread_kill about, which faults once glibc
+//   has unmapped that thread's stack: a process that plays files one after another needs glibc to
+//   keep them mapped (docs/openni2_device.md, "Stopping a grabber"). The reader's own streams have
+//   no listener, so they add no such thread; it reads them with readFrame.
 
 #ifdef HAVE_OPENNI2
 
