@@ -678,12 +678,16 @@ struct OniReader::Playback
       catch (...)
       {} // nothing to report from a destructor; the streams are destroyed below either way
     }
+    // Every stream stopped before any is destroyed: OpenNI2's player thread walks its list of
+    // streams without its lock, and at the end of a file (repeat off) it does so in a busy loop
+    // while any stream is started; with none started it sleeps 10 ms a turn. (gdb: the player
+    // thread crashed in that walk while a stream was destroyed, 1 of 5 runs under load.)
     for (openni::VideoStream *stream : {&depth, &colour, &ir})
       if (stream->isValid ())
-      {
         stream->stop ();
+    for (openni::VideoStream *stream : {&depth, &colour, &ir})
+      if (stream->isValid ())
         stream->destroy ();
-      }
     grabber.reset ();
     if (control.isValid ())
       control.close ();
