@@ -361,12 +361,7 @@ run (int argc, char **argv)
   writeText (tmp / "inliers.json", j.dump (2) + "\n");
   writeText (tmp / "report.html", pcl_texlet_interference::studyHtml (j, tmp.string (), curves_png));
 
-  if (fs::exists (out, ec))
-    throw pcl::IOException ("OUTPUT '" + o.output + "' appeared while writing; not replaced");
-  fs::rename (tmp, out, ec);
-  if (ec)
-    throw pcl::IOException ("cannot rename '" + tmp.string () + "' onto '" + o.output + "': " + ec.message ());
-  guard.release ();
+  pcl_texlet_app::publishFolder (tmp, out, o.output, guard);
   if (!o.quiet)
     std::cout << "output: " << o.output << " (inliers.json, report.html"
               << (o.no_plots ? "" : ", histogram_p*_r*.png, inliers_vs_radius.png") << ")" << std::endl;
