@@ -275,8 +275,9 @@ TEST_F (ViewerKeys, LayerKeysShowAndHideEachLayer)
   EXPECT_EQ (viewer->layerActor ("texlets")->GetProperty ()->GetRepresentation (), VTK_SURFACE);
   EXPECT_TRUE (visible ("sigma_p"));
 
-  // A new frame keeps the layers as the keys left them.
-  ASSERT_TRUE (viewer->update (true));
+  // Texlets recomputed (a new spacing; new actors) keep the layers as the keys left them.
+  press ("plus", '+');
+  ASSERT_TRUE (viewer->update (false));
   EXPECT_TRUE (visible ("cloud"));
   EXPECT_TRUE (visible ("texlets"));
   EXPECT_TRUE (visible ("sigma_p"));
