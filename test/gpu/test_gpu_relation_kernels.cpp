@@ -3,20 +3,20 @@
  * over every row, as pcl::texlet::accumulateRelations runs it), without PCL: this test builds
  * on the device machine with CUDA alone (gpu/build_with_nvcc.sh). Texlets are noisy patches on
  * the faces of the paper's Table 2 box (128 x 112 x 240 mm), labelled by face, with the box's
- * expected relations as inlier boxes. Without a CUDA device the comparisons skip.
+ * expected relations as inlier boxes (gpu/synthetic_box_texlets.h). Without a CUDA device the comparisons skip.
  *
  * Distances agree exactly (both sides the same float operations, --fmad=false); the angle's
  * acosf may differ by an ulp between CUDA and the host, so relations whose angle lies within
  * 1e-4 degrees of a bin or box edge are counted on the host and bound the differences.
  */
 #include <pcl_texlet/gpu/containers/cuda_error.h>
+#include <pcl_texlet/gpu/synthetic_box_texlets.h>
 #include <pcl_texlet/gpu/texlet_relations.h>
 #include <pcl_texlet/kernels/relation_histogram.h>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 #include <vector>
 
 namespace kn = pcl::texlet::kernels;
@@ -24,72 +24,18 @@ namespace kn = pcl::texlet::kernels;
 namespace
 {
 
-struct Texlets
-{
-  std::vector<kn::Vec3<float>> centre, normal;
-  std::vector<int> label;
+using Texlets = pcl::gpu::BoxTexlets;
 
-  kn::RelationInput<float>
-  input (bool labelled) const
-  {
-    kn::RelationInput<float> in;
-    in.centre = centre.data ();
-    in.normal = normal.data ();
-    in.label = labelled ? label.data () : nullptr;
-    in.count = static_cast<int> (centre.size ());
-    return in;
-  }
-};
-
-/** \a per_face noisy texlets on each of the box's five visible faces (not the bottom). */
 Texlets
 boxTexlets (int per_face, std::uint32_t seed)
 {
-  const double size[3] = {0.128, 0.112, 0.240};
-  std::mt19937 rng (seed);
-  std::uniform_real_distribution<double> u (-0.5, 0.5);
-  std::normal_distribution<double> position_noise (0.0, 0.001), normal_noise (0.0, 0.03);
-  Texlets t;
-  int face = 0;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = -1; side <= 1; side += 2)
-    {
-      if (axis == 2 && side < 0)
-        continue; // the bottom stands on the plate
-      for (int k = 0; k < per_face; ++k)
-      {
-        double p[3], n[3] = {0, 0, 0};
-        for (int a = 0; a < 3; ++a)
-          p[a] = u (rng) * size[a];
-        p[axis] = 0.5 * side * size[axis] + position_noise (rng);
-        n[axis] = side;
-        for (double &c : n)
-          c += normal_noise (rng);
-        const double len = std::sqrt (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        t.centre.push_back ({float (p[0]), float (p[1]), float (p[2] + 1.0)});
-        t.normal.push_back ({float (n[0] / len), float (n[1] / len), float (n[2] / len)});
-        t.label.push_back (face);
-      }
-      ++face;
-    }
-  return t;
+  return pcl::gpu::syntheticBoxTexlets (per_face, seed);
 }
 
-/** The box's expected relations: parallel opposite faces at their distance, orthogonal faces. */
 std::vector<kn::RelationBox>
 boxRelations ()
 {
-  std::vector<kn::RelationBox> boxes (5);
-  boxes[0].angle_deg = 0.0f; // a face with itself
-  boxes[1].angle_deg = 180.0f;
-  boxes[1].distance_min = boxes[1].distance_max = 0.128f;
-  boxes[2].angle_deg = 180.0f;
-  boxes[2].distance_min = boxes[2].distance_max = 0.112f;
-  boxes[3].angle_deg = 90.0f;
-  boxes[3].distance_max = 0.240f;
-  boxes[4].angle_deg = 180.0f;
-  boxes[4].distance_min = boxes[4].distance_max = 0.240f;
-  return boxes;
+  return pcl::gpu::syntheticBoxRelations ();
 }
 
 struct Counts

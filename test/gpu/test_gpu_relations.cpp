@@ -11,10 +11,11 @@
  * one bin over. The tests count those borderline relations on the host and allow no more
  * differences than that, and check that they are rare (so the bound is not vacuous).
  */
+#include <pcl_texlet/multi_sensor/interference_study.h> // (Random123 before CUDA's headers: see gpu/random123_host_sincospi.h)
+#include <pcl_texlet/multi_sensor/texlet_relations.h>
+
 #include <pcl_texlet/gpu/containers/cuda_error.h>
 #include <pcl_texlet/gpu/texlet_relations.h>
-#include <pcl_texlet/multi_sensor/interference_study.h>
-#include <pcl_texlet/multi_sensor/texlet_relations.h>
 
 #include <gtest/gtest.h>
 
@@ -185,7 +186,9 @@ TEST_F (GpuRelations, HistogramTooBigForSharedMemoryUsesGlobalAtomics)
 
 TEST_F (GpuRelations, FewAndNoTexlets)
 {
-  pcl::PointCloud<pcl::Texlet> few (texlets_->begin (), texlets_->begin () + 3);
+  pcl::PointCloud<pcl::Texlet> few;
+  for (int k = 0; k < 3; ++k)
+    few.push_back ((*texlets_)[k]);
   expectSameCounts (compare (few, *object_, RelationParameters (), {}));
   pcl::PointCloud<pcl::Texlet> none;
   const Comparison c = compare (none, *object_, RelationParameters (), {});
