@@ -2,10 +2,18 @@
  * bench_relations: all-pairs texlet relations (normal distance x angle histogram plus inlier
  * boxes of the paper's Table 2) for n texlets, on 1 and 2 threads. Items are directed
  * relations, n (n - 1) per run. Texlets are random patches around the paper's box.
+ * In builds with CUDA, BM_AllPairRelationsGpu runs the same on the GPU backend
+ * (pcl::gpu::accumulateRelations: upload, kernel, download); it reports an error and no time
+ * when there is no CUDA device.
  *
  *   build/bench/bench_relations --benchmark_filter='/30000/'
  */
 #include <pcl_texlet/multi_sensor/texlet_relations.h>
+
+#ifdef PCL_TEXLET_BENCH_WITH_GPU
+#include <pcl_texlet/gpu/containers/cuda_error.h>
+#include <pcl_texlet/gpu/texlet_relations.h>
+#endif
 
 #include <benchmark/benchmark.h>
 
@@ -57,7 +65,48 @@ BM_AllPairRelations (benchmark::State &state)
   state.counters["threads"] = static_cast<double> (params.threads);
 }
 
+#ifdef PCL_TEXLET_BENCH_WITH_GPU
+void
+BM_AllPairRelationsGpu (benchmark::State &state)
+{
+  if (pcl::gpu::cudaDeviceCount () == 0)
+  {
+    state.SkipWithError ("no CUDA device");
+    return;
+  }
+  const int n = static_cast<int> (state.range (0));
+  const auto cloud = randomTexlets (n);
+  const pcl::texlet::KnownObject box = pcl::texlet::paperBoxObject ();
+  std::vector<int> labels (cloud.size ());
+  for (std::size_t i = 0; i < labels.size (); ++i)
+    labels[i] = static_cast<int> (i % 6);
+  pcl::texlet::RelationParameters params;
+  params.backend = [] (const auto &in, const auto &config, auto &counts) { pcl::gpu::accumulateRelations (in, config, counts); };
+  const bool labelled = state.range (1) != 0;
+  pcl::texlet::accumulateRelations (randomTexlets (100), box, params); // CUDA context and module load, untimed
+  for (auto _ : state)
+  {
+    const auto s = pcl::texlet::accumulateRelations (cloud, box, params, labelled ? labels : std::vector<int> ());
+    benchmark::DoNotOptimize (s.inliers);
+  }
+  state.SetItemsProcessed (state.iterations () * static_cast<std::int64_t> (n) * (n - 1));
+  state.counters["texlets"] = n;
+}
+#endif
+
 } // namespace
+
+#ifdef PCL_TEXLET_BENCH_WITH_GPU
+BENCHMARK (BM_AllPairRelationsGpu)
+    ->ArgNames ({"texlets", "labels"})
+    ->Args ({10000, 0})
+    ->Args ({30000, 0})
+    ->Args ({30000, 1})
+    ->Args ({100000, 1})
+    ->Unit (benchmark::kMillisecond)
+    ->UseRealTime ()
+    ->Iterations (3);
+#endif
 
 BENCHMARK (BM_AllPairRelations)
     ->ArgNames ({"texlets", "threads", "labels"})

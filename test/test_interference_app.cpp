@@ -231,3 +231,37 @@ TEST_F (InterferenceApp, BadInputExitsTwoWithOneLine)
   expectRejected ("--recordings a --recordings b --projectors 1 " + out, "one count per set");
   expectRejected ("--recordings , " + out, "at least one folder");
 }
+
+TEST_F (InterferenceApp, GpuBackendRunsOrSaysWhyNot)
+{
+  // --backend gpu: the relations on the CUDA backend, the same study as on the CPU; without a
+  // device (or a build without CUDA) one line naming the reason, exit 2, no output.
+  const std::string args = "--simulate --width 160 --height 120 --radii 4 --projectors 1,2 --no-plots -q ";
+  const fs::path cpu_out = dir / "cpu", gpu_out = dir / "gpu";
+  const Result gpu = study ("--backend gpu " + args + gpu_out.string ());
+  if (gpu.code == 2)
+  {
+    EXPECT_EQ (occurrences (gpu.err, "\n"), 1u) << gpu.err;
+    EXPECT_NE (gpu.err.find ("--backend gpu: the GPU backend is not available: "), std::string::npos) << gpu.err;
+    EXPECT_TRUE (gpu.err.find ("no CUDA device found") != std::string::npos ||
+                 gpu.err.find ("this build has no CUDA backend") != std::string::npos)
+        << gpu.err;
+    EXPECT_FALSE (fs::exists (gpu_out));
+  }
+  else
+  {
+    ASSERT_EQ (gpu.code, 0) << gpu.err;
+    const Result cpu = study ("--backend cpu " + args + cpu_out.string ());
+    ASSERT_EQ (cpu.code, 0) << cpu.err;
+    const json g = json::parse (slurp (gpu_out / "inliers.json")), c = json::parse (slurp (cpu_out / "inliers.json"));
+    EXPECT_EQ (g["setup"]["relation_backend"], "gpu");
+    ASSERT_EQ (g["cells"].size (), c["cells"].size ());
+    for (std::size_t k = 0; k < c["cells"].size (); ++k)
+    {
+      EXPECT_EQ (g["cells"][k]["texlets"], c["cells"][k]["texlets"]);
+      // Only relations within an ulp of a box's angle edge may be sorted differently.
+      EXPECT_NEAR (g["cells"][k]["inlier_percent"].get<double> (), c["cells"][k]["inlier_percent"].get<double> (), 0.01);
+    }
+  }
+  expectRejected ("--simulate --backend tpu " + (dir / "out").string (), "--backend");
+}

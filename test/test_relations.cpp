@@ -318,6 +318,52 @@ TEST (TexletRelations, ClassGivesTheFreeFunctionsResult)
   EXPECT_EQ (s.inliers, f.inliers);
 }
 
+TEST (TexletRelations, BackendGetsTheCompactedValidTexletsAndFillsTheStatistics)
+{
+  // RelationParameters::backend (how the GPU backend plugs in): the valid texlets compacted,
+  // unit normals, labels beside them, the object's boxes; what it counts becomes the result.
+  // Here a backend running the CPU path's row kernel in reverse row order, serially.
+  const KnownObject box = paperBoxObject ();
+  pcl::PointCloud<pcl::Texlet> cloud = texletsOnFaces (box, 4);
+  cloud[3].support = 0; // skipped by the compaction
+  std::vector<int> labels = labelTexlets (cloud, box);
+  RelationParameters params;
+  params.threads = 2;
+  const RelationStatistics cpu = accumulateRelations (cloud, box, params, labels);
+  int calls = 0, seen = 0;
+  params.backend = [&] (const kernels::RelationInput<float> &in, const kernels::RelationConfig &config,
+                        kernels::RelationCounts<std::uint64_t> &counts) {
+    ++calls;
+    seen = in.count;
+    EXPECT_EQ (config.box_count, static_cast<int> (box.relations.size ()));
+    EXPECT_EQ (config.label_count, static_cast<int> (box.faces.size ()));
+    ASSERT_NE (in.label, nullptr);
+    for (int i = 0; i < in.count; ++i)
+      EXPECT_NEAR (kernels::dot (in.normal[i], in.normal[i]), 1.0f, 1e-6f);
+    for (int i = in.count - 1; i >= 0; --i)
+      kernels::accumulateRelationRow (i, in, config, counts);
+  };
+  const RelationStatistics other = accumulateRelations (cloud, box, params, labels);
+  EXPECT_EQ (calls, 1);
+  EXPECT_EQ (static_cast<std::size_t> (seen), cloud.size () - 1);
+  EXPECT_EQ (other.texlets, cpu.texlets);
+  EXPECT_EQ (other.relation_count, cpu.relation_count);
+  EXPECT_EQ (other.histogram, cpu.histogram);
+  EXPECT_EQ (other.inliers, cpu.inliers);
+  EXPECT_EQ (other.relation_hits, cpu.relation_hits);
+  EXPECT_EQ (other.label_pairs, cpu.label_pairs);
+  EXPECT_EQ (other.label_inliers, cpu.label_inliers);
+  EXPECT_EQ (other.outside_histogram, cpu.outside_histogram);
+  EXPECT_GT (cpu.inliers, 0u);
+
+  // The class passes it on; a backend's exception reaches the caller.
+  TexletRelations rel;
+  rel.setInputCloud (std::make_shared<pcl::PointCloud<pcl::Texlet>> (cloud));
+  rel.setBackend ([] (const auto &, const auto &, auto &) { throw std::runtime_error ("no CUDA device"); });
+  RelationStatistics s;
+  EXPECT_THROW (rel.compute (s), std::runtime_error);
+}
+
 TEST (TexletRelations, BadInputIsNamed)
 {
   const KnownObject box = paperBoxObject ();

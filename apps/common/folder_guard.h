@@ -3,7 +3,10 @@
  */
 #pragma once
 
+#include <pcl/exceptions.h>
+
 #include <filesystem>
+#include <string>
 #include <system_error>
 #include <utility>
 
@@ -30,5 +33,24 @@ public:
 private:
   std::filesystem::path path_;
 };
+
+/** \brief The last step of writing an output folder under a temporary name: renames the
+  * complete folder \a tmp (held by \a guard) onto \a out and releases the guard. An \a out that
+  * appeared while the run was writing (another run, a user) is not replaced: that is an error,
+  * and the guard then removes \a tmp. \a shown names \a out in messages as the user gave it.
+  * \throws pcl::IOException when \a out appeared meanwhile or the rename fails
+  */
+inline void
+publishFolder (const std::filesystem::path &tmp, const std::filesystem::path &out, const std::string &shown,
+               FolderGuard &guard)
+{
+  std::error_code ec;
+  if (std::filesystem::exists (out, ec))
+    throw pcl::IOException ("OUTPUT '" + shown + "' appeared while writing; not replaced");
+  std::filesystem::rename (tmp, out, ec);
+  if (ec)
+    throw pcl::IOException ("cannot rename '" + tmp.string () + "' onto '" + shown + "': " + ec.message ());
+  guard.release ();
+}
 
 } // namespace pcl_texlet_app

@@ -20,6 +20,11 @@
 #include <pcl_texlet/multi_sensor/interference_study.h>
 #include <pcl_texlet/multi_sensor/relation_plots.h>
 
+#ifdef PCL_TEXLET_INTERFERENCE_WITH_GPU
+#include <pcl_texlet/gpu/containers/cuda_error.h>
+#include <pcl_texlet/gpu/texlet_relations.h>
+#endif
+
 #include <pcl/console/print.h>
 #include <pcl/exceptions.h>
 
@@ -66,6 +71,7 @@ struct Options
   double angle_tol = NAN, distance_tol_mm = NAN;
   double max_distance_mm = 300.0, distance_bin_mm = 2.0, angle_bin_deg = 1.0;
   unsigned threads = 0;
+  std::string backend = "cpu"; ///< where the relations are accumulated: cpu or gpu
   bool no_plots = false, quiet = false;
 };
 
@@ -116,6 +122,16 @@ checkOptions (Options &o, const CLI::App &app)
     throw InputError ("--max-distance, --distance-bin and --angle-bin must be positive, with at most 10000 bins per axis");
   if (o.threads > 1024)
     throw InputError ("--threads " + std::to_string (o.threads) + " is not a sensible thread count");
+  if (o.backend == "gpu")
+  {
+#ifdef PCL_TEXLET_INTERFERENCE_WITH_GPU
+    if (pcl::gpu::cudaDeviceCount () == 0)
+      throw InputError ("--backend gpu: the GPU backend is not available: no CUDA device found");
+#else
+    throw InputError ("--backend gpu: the GPU backend is not available: this build has no CUDA backend (nvcc was not "
+                      "found when it was configured)");
+#endif
+  }
   if (o.simulate)
   {
     if (o.projectors.empty ())
@@ -197,6 +213,9 @@ run (int argc, char **argv)
   app.add_option ("--distance-bin", o.distance_bin_mm, "histogram distance bin, mm")->capture_default_str ();
   app.add_option ("--angle-bin", o.angle_bin_deg, "histogram angle bin, degrees")->capture_default_str ();
   app.add_option ("-j,--threads", o.threads, "threads (0: all)")->capture_default_str ();
+  app.add_option ("--backend", o.backend, "where the texlet relations are accumulated: cpu (OpenMP) or gpu (CUDA)")
+      ->check (CLI::IsMember ({"cpu", "gpu"}))
+      ->capture_default_str ();
   app.add_flag ("--no-plots", o.no_plots, "no PNG images (and no images in report.html)");
   app.add_flag ("-q,--quiet", o.quiet, "no progress on stdout");
   if (!pcl_texlet_app::parseCommandLine (app, argc, argv))
@@ -275,6 +294,11 @@ run (int argc, char **argv)
   rel.axes.distance_bins = static_cast<int> (std::lround (o.max_distance_mm / o.distance_bin_mm));
   rel.axes.angle_bins = static_cast<int> (std::lround (180.0 / o.angle_bin_deg));
   rel.threads = o.threads;
+#ifdef PCL_TEXLET_INTERFERENCE_WITH_GPU
+  if (o.backend == "gpu")
+    rel.backend = [] (const auto &in, const auto &config, auto &counts) { pcl::gpu::accumulateRelations (in, config, counts); };
+#endif
+  setup["relation_backend"] = o.backend;
 
   // Recordings first, so bad input fails before any long computation.
   std::vector<std::pair<int, std::vector<SensorRecording>>> sets;
@@ -361,12 +385,7 @@ run (int argc, char **argv)
   writeText (tmp / "inliers.json", j.dump (2) + "\n");
   writeText (tmp / "report.html", pcl_texlet_interference::studyHtml (j, tmp.string (), curves_png));
 
-  if (fs::exists (out, ec))
-    throw pcl::IOException ("OUTPUT '" + o.output + "' appeared while writing; not replaced");
-  fs::rename (tmp, out, ec);
-  if (ec)
-    throw pcl::IOException ("cannot rename '" + tmp.string () + "' onto '" + o.output + "': " + ec.message ());
-  guard.release ();
+  pcl_texlet_app::publishFolder (tmp, out, o.output, guard);
   if (!o.quiet)
     std::cout << "output: " << o.output << " (inliers.json, report.html"
               << (o.no_plots ? "" : ", histogram_p*_r*.png, inliers_vs_radius.png") << ")" << std::endl;

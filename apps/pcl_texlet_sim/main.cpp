@@ -298,12 +298,7 @@ run (int argc, char **argv)
     FolderGuard guard (tmp);
     for (const std::size_t k : sensors)
       writeSimulatedRecording (sim, setup, k, 0, o.frames, (tmp / ("sensor_" + std::to_string (k))).string ());
-    if (fs::exists (out, ec))
-      throw pcl::IOException ("OUTPUT '" + o.output + "' appeared while writing; not replaced");
-    fs::rename (tmp, out, ec);
-    if (ec)
-      throw pcl::IOException ("cannot rename '" + tmp.string () + "' onto '" + o.output + "': " + ec.message ());
-    guard.release ();
+    pcl_texlet_app::publishFolder (tmp, out, o.output, guard);
   }
   const double seconds = std::chrono::duration<double> (std::chrono::steady_clock::now () - t0).count ();
 

@@ -8,10 +8,16 @@
  * kernels (back-projection and texlets) and the whole run (transfers included); the report
  * gives the median of the runs after warm-up, as a table and optionally as JSON. Needs CUDA
  * only (no PCL).
+ *
+ * --relations N times the texlet relations instead (pcl::gpu::accumulateRelations on N noisy
+ * texlets on the paper's box, labelled, the paper's histogram axes and the box's relations):
+ * host arrays in, counts out, so uploads and downloads are included.
  */
 #include <pcl_texlet/gpu/containers/device_array.h>
+#include <pcl_texlet/gpu/synthetic_box_texlets.h>
 #include <pcl_texlet/gpu/synthetic_frame.h>
 #include <pcl_texlet/gpu/texlet_estimation.h>
+#include <pcl_texlet/gpu/texlet_relations.h>
 
 #include <common/app_main.h>
 
@@ -20,6 +26,7 @@
 #include <cuda_runtime_api.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -170,6 +177,51 @@ stats (std::vector<float> v)
   s.median = v.size () % 2 ? v[v.size () / 2] : 0.5 * (v[v.size () / 2 - 1] + v[v.size () / 2]);
   s.p90 = v[std::min (v.size () - 1, static_cast<std::size_t> (0.9 * (v.size () - 1) + 0.5))];
   return s;
+}
+
+/** The relations of \a n box texlets on the device, \a runs times after \a warmup: wall ms. */
+int
+measureRelations (int n, int warmup, int runs)
+{
+  namespace kn = pcl::texlet::kernels;
+  const pcl::gpu::BoxTexlets texlets = pcl::gpu::syntheticBoxTexlets (std::max (1, n / 5), 1);
+  const std::vector<kn::RelationBox> boxes = pcl::gpu::syntheticBoxRelations ();
+  kn::RelationConfig config; // the paper's axes: 0-300 mm in 2 mm x 0-180 degrees in 1 degree
+  config.boxes = boxes.data ();
+  config.box_count = static_cast<int> (boxes.size ());
+  config.label_count = 5;
+  const kn::RelationInput<float> in = texlets.input (true);
+  std::vector<std::uint64_t> histogram (static_cast<std::size_t> (config.axes.distance_bins) * config.axes.angle_bins),
+      box_hits (boxes.size ()), label_pairs (25), label_inliers (25);
+  std::vector<float> ms;
+  kn::RelationCounts<std::uint64_t> counts;
+  for (int k = 0; k < warmup + runs; ++k)
+  {
+    std::fill (histogram.begin (), histogram.end (), 0);
+    std::fill (box_hits.begin (), box_hits.end (), 0);
+    std::fill (label_pairs.begin (), label_pairs.end (), 0);
+    std::fill (label_inliers.begin (), label_inliers.end (), 0);
+    counts = kn::RelationCounts<std::uint64_t> ();
+    counts.histogram = histogram.data ();
+    counts.box_hits = box_hits.data ();
+    counts.label_pairs = label_pairs.data ();
+    counts.label_inliers = label_inliers.data ();
+    const auto t0 = std::chrono::steady_clock::now ();
+    pcl::gpu::accumulateRelations (in, config, counts);
+    const float t = std::chrono::duration<float, std::milli> (std::chrono::steady_clock::now () - t0).count ();
+    if (k >= warmup)
+      ms.push_back (t);
+  }
+  const pcl::gpu::RelationLaunch launch = pcl::gpu::relationLaunch (in.count, config);
+  std::sort (ms.begin (), ms.end ());
+  const double median = ms[ms.size () / 2];
+  std::cout << "relations of " << in.count << " texlets (" << counts.relations << " directed relations, "
+            << std::setprecision (4) << 100.0 * counts.inliers / std::max<std::uint64_t> (1, counts.relations)
+            << " % inliers): " << launch.blocks << " blocks x " << launch.threads_per_block << " threads, "
+            << (launch.shared_histogram ? "shared-memory" : "global") << " histogram; median " << median << " ms, min "
+            << ms.front () << " ms of " << runs << " runs after " << warmup << " warm-up ("
+            << counts.relations / (median * 1e6) << " G relations/s, transfers included)" << std::endl;
+  return 0;
 }
 
 struct Result
@@ -329,6 +381,9 @@ run (int argc, char **argv)
       ->check (CLI::IsMember ({"none", "analytic", "montecarlo"}));
   app.add_option ("--json", json_path, "also write the results as JSON here");
   app.add_option ("--save-frame", save_path, "write the frame used as a depth dump (e.g. the synthetic one)");
+  int relations = 0;
+  app.add_option ("--relations", relations, "time the texlet relations of this many texlets instead (see the file comment)")
+      ->check (CLI::Range (2, 2000000));
   try
   {
     app.parse (argc, argv);
@@ -343,6 +398,12 @@ run (int argc, char **argv)
   }
   if (!depth_path.empty () && !dump_path.empty ())
     throw InputError ("give either --depth or --dump, not both");
+  if (relations > 0)
+  {
+    if (pcl::gpu::cudaDeviceCount () == 0)
+      throw InputError ("no CUDA device found (cudaGetDeviceCount reports none)");
+    return measureRelations (relations, warmup, runs);
+  }
 
   DepthFrame frame;
   if (!dump_path.empty ())

@@ -198,6 +198,21 @@ accumulateRelations (const pcl::PointCloud<pcl::Texlet> &texlets, const KnownObj
   out.label_inliers.assign (cells, 0);
   out.texlets = centre.size ();
 
+  if (params.backend)
+  {
+    // Another backend (the GPU): it adds into the output's zeroed arrays.
+    kernels::RelationCounts<std::uint64_t> counts;
+    counts.histogram = out.histogram.data ();
+    counts.box_hits = out.relation_hits.data ();
+    counts.label_pairs = cells ? out.label_pairs.data () : nullptr;
+    counts.label_inliers = cells ? out.label_inliers.data () : nullptr;
+    params.backend (in, config, counts);
+    out.relation_count = counts.relations;
+    out.inliers = counts.inliers;
+    out.outside_histogram = counts.outside_histogram;
+    return out;
+  }
+
   const int threads = params.threads > 0 ? static_cast<int> (params.threads) : omp_get_max_threads ();
 #pragma omp parallel num_threads (threads)
   {

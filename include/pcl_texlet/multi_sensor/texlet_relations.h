@@ -6,7 +6,8 @@
  * The paper relates "each texlet to all other extracted texlets", so all n (n - 1) directed
  * relations are taken: O(n^2), rows in parallel with OpenMP, one histogram per thread summed at
  * the end. The per-pair math is the header-only kernel kernels/relation_histogram.h, kept
- * free of PCL so that a CUDA backend can run it unchanged (there is no GPU backend yet).
+ * free of PCL so that the CUDA backend (pcl::gpu::accumulateRelations, gpu/texlet_relations.h)
+ * runs it unchanged; RelationParameters::backend selects it.
  */
 #pragma once
 
@@ -17,6 +18,7 @@
 #include <pcl/point_cloud.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,11 +27,23 @@ namespace pcl
 namespace texlet
 {
 
-/** \brief The histogram's axes and the thread count (0: OpenMP's default). */
+/** \brief Where the pairs of the valid texlets are accumulated: a function that adds every
+  * relation of \a in into \a counts (zeroed host arrays, sized as kernels::RelationCounts
+  * says). Empty: OpenMP on the CPU. pcl::gpu::accumulateRelations (gpu/texlet_relations.h, in
+  * the pcl_texlet_gpu library of builds with CUDA) is the CUDA backend:
+  * \code
+  * params.backend = [] (const auto &in, const auto &config, auto &counts) { pcl::gpu::accumulateRelations (in, config, counts); };
+  * \endcode
+  */
+using RelationBackend = std::function<void (const kernels::RelationInput<float> &in, const kernels::RelationConfig &config,
+                                            kernels::RelationCounts<std::uint64_t> &counts)>;
+
+/** \brief The histogram's axes, the thread count (0: OpenMP's default) and the backend. */
 struct RelationParameters
 {
   kernels::HistogramAxes axes; ///< default: 0-300 mm in 2 mm bins x 0-180 degrees in 1 degree bins
-  unsigned threads = 0;
+  unsigned threads = 0;        ///< OpenMP threads of the CPU backend
+  RelationBackend backend;     ///< empty: the CPU (OpenMP); see RelationBackend
 };
 
 /** \brief A histogram bin with the most counts in some window. */
@@ -128,6 +142,10 @@ public:
   /** \brief OpenMP threads (0: OpenMP's default); results do not depend on it. */
   void
   setNumberOfThreads (unsigned threads) { params_.threads = threads; }
+
+  /** \brief Where the pairs are accumulated (empty: OpenMP on the CPU); see RelationBackend. */
+  void
+  setBackend (const RelationBackend &backend) { params_.backend = backend; }
 
   /** \brief Runs accumulateRelations on the input.
     * \throws pcl::BadArgumentException without input, or as accumulateRelations.
