@@ -4,21 +4,18 @@
 #include <pcl/pcl_config.h> // HAVE_OPENNI2
 
 #ifdef HAVE_OPENNI2
-#include <pcl/io/image_depth.h>
+#include "grabber_depth_queue.h"
+
+#include <pcl_texlet/guarded_openni2_grabber.h>
+
 #include <pcl/io/openni2/openni2_device.h>
-#include <pcl/io/openni2_grabber.h>
 
 #include <OpenNI.h>
 #endif
 
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
-#include <cstdio>
-#include <deque>
 #include <filesystem>
-#include <functional>
-#include <mutex>
 #include <sstream>
 
 namespace pcl
@@ -56,60 +53,19 @@ oneLine (const std::string &text)
 /** \brief The grabber and the queue its callback fills. */
 struct OpenNI2DeviceReader::Live
 {
-  struct Item
-  {
-    unsigned index = 0;
-    int width = 0;
-    int height = 0;
-    std::vector<std::uint16_t> depth_mm;
-  };
-
-  static constexpr std::size_t kCapacity = 4;
-
-  std::unique_ptr<pcl::io::OpenNI2Grabber> grabber;
-  openni::Device announcer; ///< the device opened once before the grabber, so that OpenNI2 lists it
   bool openni_initialised = false;
-  std::mutex mutex;
-  std::condition_variable arrived;
-  std::deque<Item> queue;
-  std::size_t dropped = 0;
+  openni::Device announcer; ///< the device opened once before the grabber, so that OpenNI2 lists it
+  GrabberDepthQueue queue {4}; ///< a live device does not wait: frames beyond 4 are dropped
+  std::unique_ptr<GuardedOpenNI2Grabber> grabber;
 
   ~Live ()
   {
-    try
-    {
-      if (grabber)
-        grabber->stop ();
-    }
-    catch (...)
-    {} // nothing to report from a destructor
-    grabber.reset ();
+    queue.close ();
+    grabber.reset (); // waits for its callbacks in flight, then stops and releases the device
     if (announcer.isValid ())
       announcer.close ();
     if (openni_initialised)
       openni::OpenNI::shutdown ();
-  }
-
-  /** Runs on OpenNI2's listener thread. */
-  void
-  onDepth (const pcl::io::DepthImage::Ptr &image)
-  {
-    Item item;
-    item.index = image->getFrameID ();
-    item.width = static_cast<int> (image->getWidth ());
-    item.height = static_cast<int> (image->getHeight ());
-    item.depth_mm.resize (std::size_t (item.width) * item.height);
-    image->fillDepthImageRaw (item.width, item.height, item.depth_mm.data ());
-    {
-      std::lock_guard<std::mutex> lock (mutex);
-      if (queue.size () >= kCapacity)
-      {
-        ++dropped;
-        return;
-      }
-      queue.push_back (std::move (item));
-    }
-    arrived.notify_one ();
   }
 };
 
@@ -135,7 +91,7 @@ OpenNI2DeviceReader::OpenNI2DeviceReader (const std::string &uri, std::size_t fr
   }
   try
   {
-    live_->grabber = std::make_unique<pcl::io::OpenNI2Grabber> (uri);
+    live_->grabber = std::make_unique<GuardedOpenNI2Grabber> (uri);
   }
   catch (const std::exception &e)
   {
@@ -170,9 +126,7 @@ OpenNI2DeviceReader::OpenNI2DeviceReader (const std::string &uri, std::size_t fr
     info_.baseline_m = baseline;
   try
   {
-    Live *live = live_.get ();
-    live_->grabber->registerCallback (std::function<void (const pcl::io::DepthImage::Ptr &)> (
-        [live] (const pcl::io::DepthImage::Ptr &image) { live->onDepth (image); }));
+    live_->queue.connect (*live_->grabber);
     live_->grabber->start ();
   }
   catch (const std::exception &e)
@@ -186,39 +140,31 @@ OpenNI2DeviceReader::next (DepthFrame &frame)
 {
   if (delivered_ >= frames_)
     return false;
-  Live::Item item;
+  GrabbedDepthFrame item;
+  const auto deadline = std::chrono::steady_clock::now () +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration> (std::chrono::duration<double> (timeout_s_));
+  if (!live_->queue.pop (item, deadline))
   {
-    std::unique_lock<std::mutex> lock (live_->mutex);
-    if (!live_->arrived.wait_for (lock, std::chrono::duration<double> (timeout_s_), [this] { return !live_->queue.empty (); }))
-    {
-      std::ostringstream msg;
-      msg << name_ << ": no depth frame within " << timeout_s_ << " s after " << delivered_ << " of " << frames_ << " frames";
-      ++delivered_; // given up, like a bad frame of the other readers
-      throw pcl::IOException (msg.str ());
-    }
-    item = std::move (live_->queue.front ());
-    live_->queue.pop_front ();
+    std::ostringstream msg;
+    msg << name_ << ": no depth frame within " << timeout_s_ << " s after " << delivered_ << " of " << frames_ << " frames";
+    ++delivered_; // given up, like a bad frame of the other readers
+    throw pcl::IOException (msg.str ());
   }
   ++delivered_;
+  if (!item.error.empty ())
+    throw pcl::IOException (name_ + ": cannot copy depth frame " + std::to_string (item.index) + ": " + oneLine (item.error));
   if (item.width != info_.width || item.height != info_.height)
     throw pcl::IOException (name_ + ": frame " + std::to_string (item.index) + " is " + std::to_string (item.width) + "x" +
                             std::to_string (item.height) + " but its depth stream is " + std::to_string (info_.width) +
                             "x" + std::to_string (info_.height));
-  char name[16];
-  std::snprintf (name, sizeof (name), "%06u", item.index);
-  frame.name = name;
-  frame.width = item.width;
-  frame.height = item.height;
-  frame.depth_mm = std::move (item.depth_mm);
-  frame.rgb.clear ();
+  item.moveInto (frame);
   return true;
 }
 
 std::size_t
 OpenNI2DeviceReader::droppedFrames () const
 {
-  std::lock_guard<std::mutex> lock (live_->mutex);
-  return live_->dropped;
+  return live_->queue.dropped ();
 }
 
 #else // HAVE_OPENNI2

@@ -16,9 +16,11 @@
 #include <tiffio.h>
 
 #ifdef HAVE_OPENNI2
-#include <pcl/io/image_depth.h>
+#include "grabber_depth_queue.h"
+
+#include <pcl_texlet/guarded_openni2_grabber.h>
+
 #include <pcl/io/openni2/openni2_device.h>
-#include <pcl/io/openni2_grabber.h>
 
 #include <OpenNI.h>
 #endif
@@ -28,17 +30,15 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
-#include <deque>
 #include <filesystem>
-#include <functional>
 #include <limits>
-#include <mutex>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -624,164 +624,158 @@ GrabberTiffReader::isGrabberTiffFolder (const std::string &folder)
 //   property (PlayerStream asks for it per frame and returns when it is missing). OpenNI2's
 //   Recorder writes that property only for streams that support cropping, which the Dummy
 //   device does not: its recordings open, report their frame count and play back no frame.
-// - The grabber's file device plays in real time with repeat on: the last frame is often lost
-//   when playback wraps to the first one, and a callback slower than the frame rate loses more.
-//   As fast as possible (speed 0) loses most frames, since OpenNI2 keeps only the newest frame
-//   of a stream for its listener. Manual mode (speed -1) releases a record only when the device
-//   is "poked", which OpenNI2 does only from OpenNI::waitForAnyStream; the grabber's listeners
-//   never poke, so through the grabber alone manual playback delivers nothing.
+// - An OpenNI2 stream holds only its newest frame: one that is not read before the next arrives
+//   is lost. The grabber's file device plays in real time with repeat on, and as fast as possible
+//   (speed 0) is worse: its listener loses a frame whenever it falls behind the player. So the
+//   player runs in manual mode (speed -1), where it releases one record (one frame of one
+//   stream) per "poke", and OpenNI2 pokes only inside OpenNI::waitForAnyStream.
+// - waitForAnyStream pokes again each time its thread is woken and none of the streams waited on
+//   holds a frame, and OpenNI2 wakes a waiting thread for a frame of any stream of the process,
+//   also for one delivered before the wait began (one event per thread, left set). A wait that
+//   began with that event set, or that woke for the grabber's copy of a depth frame before its
+//   own, poked twice and released two records; the second depth frame then replaced the first in
+//   the grabber's stream before its listener read it. That is how the previous reader (a stream
+//   that was never started, poked with zero-millisecond waits) lost 12 to 29 of the 30 frames of
+//   data/simulated/box_qvga.oni.
+// - So the reader waits on streams of its own, one per sensor of the file (started: a record
+//   needs a poke whenever any stream of its sensor exists, so every record released must be
+//   seen), created before the grabber's so that each frame reaches them first. Before each wait
+//   it clears its thread's event (a wait on no stream, zero milliseconds, pokes nothing), and it
+//   waits again only once the grabber's callback has delivered the depth frame of the last
+//   record. One wait, one poke, one record: each depth frame reaches the grabber's stream alone.
+//   (A frame of another OpenNI2 device streaming in the same process can still wake the wait
+//   early; the frame indices are checked, so that shows as an error, not as silently lost frames.)
 // - Opening the same file with openni::Device reaches the grabber's device (OpenNI2 shares open
-//   devices by URI and counts references), so repeat can be switched off, manual mode on, and a
-//   never-started stream of that device can be waited on for zero milliseconds to poke it.
-// - One poke releases one record of a stream that exists (the grabber creates a colour stream
-//   whenever the file has one). Poking again before the released record has arrived can release
-//   the next depth frame while the grabber's listener still holds none, and OpenNI2 then drops
-//   one of them: so a poke is made only when the previous one is accounted for, by a depth frame
-//   from the grabber or by a colour frame allocated for a stream of our own.
-// - Two streams with frame listeners in one reader (the grabber's and one of ours) make OpenNI2
-//   crash in the listener thread of the next reader in the process: this reader adds none.
+//   devices by URI and counts references): repeat is switched off and manual mode on through it.
+// - Every thread that calls libOpenNI2 (each grabber's stream listener does) leaves an error
+//   buffer that libOpenNI2 never frees and later asks pthread_kill about, which faults once glibc
+//   has unmapped that thread's stack: a process that plays files one after another needs glibc to
+//   keep them mapped (docs/openni2_device.md, "Stopping a grabber"). The reader's own streams have
+//   no listener, so they add no such thread; it reads them with readFrame.
 
 #ifdef HAVE_OPENNI2
 
-/** \brief The grabber, the second handle on its device, and the queue between them. */
+/** \brief The grabber, the reader's own handle on its device and streams, and the queue between. */
 struct OniReader::Playback
 {
-  struct Item
-  {
-    unsigned index = 0;
-    int width = 0;
-    int height = 0;
-    int bytes = 0; ///< what OpenNI2 decoded
-    std::vector<std::uint16_t> depth_mm;
-  };
-
-  /** \brief Allocates the colour stream's frame buffers, and so sees every colour record a poke
-    * releases, on the player's thread. (A frame listener would do too, but a second listener
-    * thread per reader crashes OpenNI2 2.2 in the next reader of the process.)
-    */
-  class ColourCounter : public openni::VideoStream::FrameAllocator
-  {
-  public:
-    explicit ColourCounter (Playback &playback) : playback_ (playback) {}
-
-    void *
-    allocateFrameBuffer (int size) override
-    {
-      playback_.released (nullptr);
-      return std::malloc (static_cast<std::size_t> (size));
-    }
-
-    void
-    freeFrameBuffer (void *data) override { std::free (data); }
-
-  private:
-    Playback &playback_;
-  };
-
-  /** \brief One poke releases one record, so at most one frame waits here; the rest is slack. */
-  static constexpr std::size_t kCapacity = 4;
-
-  std::unique_ptr<pcl::io::OpenNI2Grabber> grabber;
-  openni::Device control;     ///< the grabber's device again: playback control
-  openni::VideoStream poker;  ///< depth, never started: waiting on it pokes the manual-mode player
-  ColourCounter colour_counter {*this};
-  openni::VideoStream colour; ///< started when the file has colour, to see the records pokes release
   bool openni_initialised = false;
-
-  std::mutex mutex;
-  std::condition_variable changed;
-  std::deque<Item> queue;
-  std::string error;        ///< a failure inside the callback, reported by next ()
-  bool poke_pending = false; ///< a poke whose record has not arrived yet
-  bool stopping = false;
-  bool have_index = false;
-  unsigned last_index = 0;
+  openni::Device control;     ///< the file again (the grabber's device): playback control
+  openni::VideoStream depth;  ///< the reader's depth stream: sees each depth record first
+  openni::VideoStream colour; ///< created when the file has colour, to see its records
+  openni::VideoStream ir;     ///< created when the file has IR, to see its records
+  GrabberDepthQueue queue {2}; ///< one frame per record released, so one at most; the rest is slack
+  std::unique_ptr<GuardedOpenNI2Grabber> grabber;
 
   ~Playback ()
   {
+    queue.close ();
+    if (grabber)
     {
-      std::lock_guard<std::mutex> lock (mutex);
-      stopping = true;
+      try
+      {
+        grabber->stop (); // waits for its callbacks in flight
+      }
+      catch (...)
+      {} // nothing to report from a destructor; the streams are destroyed below either way
     }
-    changed.notify_all (); // a callback waiting for room returns
-    try
-    {
-      if (grabber)
-        grabber->stop ();
-    }
-    catch (...)
-    {} // nothing to report from a destructor; the streams are destroyed below either way
-    if (colour.isValid ())
-    {
-      colour.stop (); // frees the held frame through colour_counter
-      colour.destroy ();
-    }
-    if (poker.isValid ())
-      poker.destroy ();
+    // Every stream stopped before any is destroyed: OpenNI2's player thread walks its list of
+    // streams without its lock, and at the end of a file (repeat off) it does so in a busy loop
+    // while any stream is started; with none started it sleeps 10 ms a turn. (gdb: the player
+    // thread crashed in that walk while a stream was destroyed, 1 of 5 runs under load.)
+    for (openni::VideoStream *stream : {&depth, &colour, &ir})
+      if (stream->isValid ())
+        stream->stop ();
+    for (openni::VideoStream *stream : {&depth, &colour, &ir})
+      if (stream->isValid ())
+        stream->destroy ();
+    grabber.reset ();
     if (control.isValid ())
       control.close ();
-    grabber.reset ();
     if (openni_initialised)
       openni::OpenNI::shutdown ();
   }
 
-  /** \brief Accounts for the record of the last poke: a depth frame (queued) or another stream's. */
-  void
-  released (Item *depth)
+  /** \brief The reader's started streams, depth first. */
+  std::vector<openni::VideoStream *>
+  watchers ()
   {
-    std::unique_lock<std::mutex> lock (mutex);
-    if (depth)
-    {
-      changed.wait (lock, [&] { return stopping || queue.size () < kCapacity; });
-      if (stopping)
-        return;
-      queue.push_back (std::move (*depth));
-    }
-    poke_pending = false;
-    changed.notify_all ();
+    std::vector<openni::VideoStream *> streams;
+    for (openni::VideoStream *stream : {&depth, &colour, &ir})
+      if (stream->isValid ())
+        streams.push_back (stream);
+    return streams;
   }
 
-  /** \brief Runs on OpenNI2's listener thread: copies the frame and queues it. */
-  void
-  onDepth (const pcl::io::DepthImage::Ptr &image)
-  {
-    Item item;
-    try
-    {
-      item.index = image->getFrameID ();
-      item.width = static_cast<int> (image->getWidth ());
-      item.height = static_cast<int> (image->getHeight ());
-      item.bytes = image->getDataSize ();
-      item.depth_mm.resize (std::size_t (item.width) * item.height);
-      image->fillDepthImageRaw (item.width, item.height, item.depth_mm.data ());
-    }
-    catch (const std::exception &e)
-    {
-      std::lock_guard<std::mutex> lock (mutex);
-      if (error.empty ())
-        error = "cannot copy a depth frame: " + description (e);
-      poke_pending = false;
-      changed.notify_all ();
-      return;
-    }
-    released (&item);
-  }
-
-  /** \brief Waits (bounded) for the next queued depth frame, poking the player as needed.
-    * \throws pcl::IOException on a timeout or a failure in the callback; \a delivered counts the
-    * frame given up then.
+  /** \brief Releases records one at a time until one is a depth frame, and returns the grabber's
+    * copy of it.
+    * \throws pcl::IOException naming frame \a number of \a size when it does not come within
+    *         \a timeout_s seconds, or the grabber's frame is not the released one.
     */
-  Item
-  take (const std::string &what, double timeout_s, std::size_t &delivered, std::size_t size);
-
-  void
-  poke ()
-  {
-    openni::VideoStream *streams[] = {&poker};
-    int ready = -1;
-    openni::OpenNI::waitForAnyStream (streams, 1, &ready, 0);
-  }
+  GrabbedDepthFrame
+  take (const std::string &what, double timeout_s, std::size_t number, std::size_t size);
 };
+
+namespace
+{
+
+/** \brief Clears the calling thread's OpenNI2 wake-up event (set by any frame of any stream since
+  * its last wait), so that the next wait pokes a manual-mode player once: a wait on no stream
+  * for zero milliseconds consumes the event and pokes no device.
+  */
+void
+clearOpenNI2WakeUp ()
+{
+  openni::VideoStream *none[] = {nullptr};
+  int ready = -1;
+  openni::OpenNI::waitForAnyStream (none, 1, &ready, 0);
+}
+
+} // namespace
+
+GrabbedDepthFrame
+OniReader::Playback::take (const std::string &what, double timeout_s, std::size_t number, std::size_t size)
+{
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point deadline =
+      Clock::now () + std::chrono::duration_cast<Clock::duration> (std::chrono::duration<double> (timeout_s));
+  const auto lost = [&] {
+    std::ostringstream msg;
+    msg << what << "frame " << number << " of " << size << " did not arrive within " << timeout_s
+        << " s (truncated or corrupt recording?)";
+    return pcl::IOException (msg.str ());
+  };
+  std::vector<openni::VideoStream *> streams = watchers ();
+  for (;;)
+  {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds> (deadline - Clock::now ()).count ();
+    if (left <= 0)
+      throw lost ();
+    clearOpenNI2WakeUp ();
+    int ready = -1;
+    if (openni::OpenNI::waitForAnyStream (streams.data (), static_cast<int> (streams.size ()), &ready,
+                                          static_cast<int> (left)) != openni::STATUS_OK ||
+        ready < 0)
+      throw lost ();
+    openni::VideoFrameRef record;
+    if (streams[ready]->readFrame (&record) != openni::STATUS_OK || !record.isValid ())
+      throw pcl::IOException (what + "cannot read frame " + std::to_string (number) + " of " + std::to_string (size) +
+                              " (" + openni::OpenNI::getExtendedError () + ")");
+    if (streams[ready] != &depth)
+      continue; // a colour or IR record: the reader plays depth only
+    const unsigned index = static_cast<unsigned> (record.getFrameIndex ());
+    record.release ();
+    // The grabber's stream received the same record right after the reader's; its callback
+    // copies it into the queue. No record is released before it is there.
+    GrabbedDepthFrame frame;
+    if (!queue.pop (frame, deadline))
+      throw pcl::IOException (what + "the grabber did not deliver depth frame " + std::to_string (index) + " within " +
+                              std::to_string (timeout_s) + " s");
+    if (frame.index != index)
+      throw pcl::IOException (what + "the grabber delivered depth frame " + std::to_string (frame.index) +
+                              " where OpenNI2 played frame " + std::to_string (index));
+    return frame;
+  }
+}
 
 OniReader::OniReader (const std::string &file, double timeout_s) : file_ (file), timeout_s_ (timeout_s)
 {
@@ -796,40 +790,53 @@ OniReader::OniReader (const std::string &file, double timeout_s) : file_ (file),
     throw pcl::IOException (what + "is not a file");
   if (lowerExtension (file) != ".oni")
     throw pcl::IOException (what + "is not an .oni file (OpenNI2 plays only files named *.oni)");
-  startPlayback ();
-}
 
-void
-OniReader::startPlayback ()
-{
-  const std::string &file = file_;
-  const std::string what = ".oni file '" + file + "': ";
-  playback_.reset (); // one OpenNI2 context at a time: the old one shuts down first
   playback_ = std::make_unique<Playback> ();
   Playback &p = *playback_;
+  p.openni_initialised = openni::OpenNI::initialize () == openni::STATUS_OK;
+  if (!p.openni_initialised)
+    throw pcl::IOException (what + "cannot initialise OpenNI2 (" + description (std::runtime_error (openni::OpenNI::getExtendedError ())) + ")");
+  const auto openniError = [] { return description (std::runtime_error (openni::OpenNI::getExtendedError ())); };
+  if (p.control.open (file.c_str ()) != openni::STATUS_OK)
+    throw pcl::IOException (what + "OpenNI2 cannot play it: not an .oni recording, or truncated or corrupt (" +
+                            openniError () + ")");
+  if (!p.control.isFile ())
+    throw pcl::IOException (what + "OpenNI2 did not open it as a recording");
+  if (!p.control.hasSensor (openni::SENSOR_DEPTH) || p.depth.create (p.control, openni::SENSOR_DEPTH) != openni::STATUS_OK)
+    throw pcl::IOException (what + "cannot open its depth stream (" + openniError () + ")");
+  OniCropping cropping;
+  if (p.depth.getProperty (ONI_STREAM_PROPERTY_CROPPING, &cropping) != openni::STATUS_OK)
+    throw pcl::IOException (what + "its depth stream was recorded without the cropping property, and OpenNI2's "
+                                   "OniFile driver plays no frame of such a stream (recordings of OpenNI2's Dummy "
+                                   "device are like this)");
+  const openni::VideoMode mode = p.depth.getVideoMode ();
+  if (mode.getPixelFormat () != openni::PIXEL_FORMAT_DEPTH_1_MM)
+    throw pcl::IOException (what + "depth pixel format " + std::to_string (mode.getPixelFormat ()) +
+                            " is not millimetres (PIXEL_FORMAT_DEPTH_1_MM)");
+  if (mode.getResolutionX () <= 0 || mode.getResolutionY () <= 0)
+    throw pcl::IOException (what + "depth stream has no image size");
+  if (p.control.hasSensor (openni::SENSOR_COLOR) && p.colour.create (p.control, openni::SENSOR_COLOR) != openni::STATUS_OK)
+    throw pcl::IOException (what + "cannot open its colour stream (" + openniError () + ")");
+  if (p.control.hasSensor (openni::SENSOR_IR) && p.ir.create (p.control, openni::SENSOR_IR) != openni::STATUS_OK)
+    throw pcl::IOException (what + "cannot open its IR stream (" + openniError () + ")");
+
+  // The grabber's streams come after the reader's, so each frame reaches the reader's first.
   try
   {
-    p.grabber = std::make_unique<pcl::io::OpenNI2Grabber> (file);
+    p.grabber = std::make_unique<GuardedOpenNI2Grabber> (file);
   }
   catch (const std::exception &e)
   {
     throw pcl::IOException (what + "OpenNI2 cannot play it: not an .oni recording, or truncated or corrupt (" +
                             description (e) + ")");
   }
-
   int frames = 0;
   float focal = 0;
   try
   {
     const pcl::io::openni2::OpenNI2Device::Ptr device = p.grabber->getDevice ();
-    if (!device->isFile ())
-      throw pcl::IOException (what + "OpenNI2 did not open it as a recording");
     frames = device->getDepthFrameCount ();
     focal = device->getDepthFocalLength ();
-  }
-  catch (const pcl::IOException &)
-  {
-    throw;
   }
   catch (const std::exception &e)
   {
@@ -838,28 +845,8 @@ OniReader::startPlayback ()
   if (frames <= 0)
     throw pcl::IOException (what + "has no depth frame count (" + std::to_string (frames) +
                             "): not a finalised recording (was its recorder stopped?)");
-
-  p.openni_initialised = openni::OpenNI::initialize () == openni::STATUS_OK;
-  if (!p.openni_initialised)
-    throw pcl::IOException (what + "cannot initialise OpenNI2 (" + openni::OpenNI::getExtendedError () + ")");
-  if (p.control.open (file.c_str ()) != openni::STATUS_OK)
-    throw pcl::IOException (what + "cannot open it for playback control (" + openni::OpenNI::getExtendedError () + ")");
-  if (p.poker.create (p.control, openni::SENSOR_DEPTH) != openni::STATUS_OK)
-    throw pcl::IOException (what + "cannot open its depth stream (" + openni::OpenNI::getExtendedError () + ")");
-  OniCropping cropping;
-  if (p.poker.getProperty (ONI_STREAM_PROPERTY_CROPPING, &cropping) != openni::STATUS_OK)
-    throw pcl::IOException (what + "its depth stream was recorded without the cropping property, and OpenNI2's "
-                                   "OniFile driver plays no frame of such a stream (recordings of OpenNI2's Dummy "
-                                   "device are like this)");
-  const openni::VideoMode mode = p.poker.getVideoMode ();
-  if (mode.getPixelFormat () != openni::PIXEL_FORMAT_DEPTH_1_MM)
-    throw pcl::IOException (what + "depth pixel format " + std::to_string (mode.getPixelFormat ()) +
-                            " is not millimetres (PIXEL_FORMAT_DEPTH_1_MM)");
-  if (mode.getResolutionX () <= 0 || mode.getResolutionY () <= 0)
-    throw pcl::IOException (what + "depth stream has no image size");
   if (!(focal > 0) || !std::isfinite (focal))
     throw pcl::IOException (what + "its depth stream has no field of view, so no focal length");
-
   info_.width = mode.getResolutionX ();
   info_.height = mode.getResolutionY ();
   const double f = focal;
@@ -867,20 +854,16 @@ OniReader::startPlayback ()
   std::copy (K, K + 9, info_.K);
   size_ = static_cast<std::size_t> (frames);
 
-  // Before any stream starts: the player begins as soon as one does, at the grabber's real-time speed.
+  // After the grabber's device set real-time speed, before any stream starts the player.
   openni::PlaybackControl *control = p.control.getPlaybackControl ();
   if (!control || control->setRepeatEnabled (false) != openni::STATUS_OK || control->setSpeed (-1.0f) != openni::STATUS_OK)
-    throw pcl::IOException (what + "cannot switch playback to manual without repeat (" +
-                            openni::OpenNI::getExtendedError () + ")");
-  if (p.control.hasSensor (openni::SENSOR_COLOR) &&
-      (p.colour.create (p.control, openni::SENSOR_COLOR) != openni::STATUS_OK ||
-       p.colour.setFrameBuffersAllocator (&p.colour_counter) != openni::STATUS_OK || p.colour.start () != openni::STATUS_OK))
-    throw pcl::IOException (what + "cannot open its colour stream (" + openni::OpenNI::getExtendedError () + ")");
+    throw pcl::IOException (what + "cannot switch playback to manual without repeat (" + openniError () + ")");
+  for (openni::VideoStream *stream : p.watchers ())
+    if (stream->start () != openni::STATUS_OK)
+      throw pcl::IOException (what + "cannot start playback (" + openniError () + ")");
   try
   {
-    Playback *playback = &p;
-    p.grabber->registerCallback (std::function<void (const pcl::io::DepthImage::Ptr &)> (
-        [playback] (const pcl::io::DepthImage::Ptr &image) { playback->onDepth (image); }));
+    p.queue.connect (*p.grabber);
     p.grabber->start ();
   }
   catch (const std::exception &e)
@@ -889,88 +872,26 @@ OniReader::startPlayback ()
   }
 }
 
-namespace
-{
-/** \brief How often next () replays a recording from its start to recover a frame OpenNI2 lost. */
-constexpr int kOniReplays = 3;
-} // namespace
-
-OniReader::Playback::Item
-OniReader::Playback::take (const std::string &what, double timeout_s, std::size_t &delivered, std::size_t size)
-{
-  Playback &p = *this;
-  Item item;
-  {
-    std::unique_lock<std::mutex> lock (p.mutex);
-    const auto deadline = std::chrono::steady_clock::now () + std::chrono::duration<double> (timeout_s);
-    while (p.queue.empty () && p.error.empty ())
-    {
-      if (!p.poke_pending)
-      {
-        p.poke_pending = true;
-        lock.unlock ();
-        p.poke ();
-        lock.lock ();
-        continue;
-      }
-      if (p.changed.wait_until (lock, deadline) == std::cv_status::timeout && p.queue.empty () && p.error.empty ())
-      {
-        // A record that never came (the file ends early, or OpenNI2 skipped it): the next call
-        // pokes afresh rather than waiting on this one again.
-        p.poke_pending = false;
-        ++delivered; // the frame is given up, like a bad frame of the other readers
-        std::ostringstream msg;
-        msg << what << "frame " << delivered << " of " << size << " did not arrive within " << timeout_s
-            << " s (truncated or corrupt recording?)";
-        throw pcl::IOException (msg.str ());
-      }
-    }
-    if (!p.error.empty ())
-    {
-      ++delivered;
-      const std::string error = p.error;
-      p.error.clear ();
-      throw pcl::IOException (what + error);
-    }
-    item = std::move (p.queue.front ());
-    p.queue.pop_front ();
-  }
-  p.changed.notify_all ();
-  return item;
-}
-
 bool
 OniReader::next (DepthFrame &frame)
 {
   if (delivered_ >= size_)
     return false;
   const std::string what = ".oni file '" + file_ + "': ";
-  Playback::Item item = playback_->take (what, timeout_s_, delivered_, size_);
+  const std::size_t number = ++delivered_; // a frame that fails is given up, like a bad frame of the other readers
+  GrabbedDepthFrame item = playback_->take (what, timeout_s_, number, size_);
+  if (delivered_ == size_)
+    playback_.reset (); // the last frame: OpenNI2's player, at the end of the file, would spin until closed
 
-  // OpenNI2's recorder numbers frames 1, 2, 3, ...; a gap means playback lost frames. OpenNI2
-  // 2.2's manual-mode player does now and then drop a record on a loaded machine, so playback
-  // starts again from the beginning and skips up to the lost frame (a few times at most).
-  const bool have_index = playback_->have_index;
-  const unsigned previous = playback_->last_index;
-  for (int replay = 0; have_index && item.index != previous + 1; ++replay)
-  {
-    if (replay == kOniReplays || item.index < previous + 1)
-    {
-      ++delivered_;
-      playback_->last_index = item.index;
-      throw pcl::IOException (what + "frame index " + std::to_string (item.index) + " followed " +
-                              std::to_string (previous) + ": playback lost or reordered frames (" +
-                              std::to_string (replay) + " replays from the start did not recover it)");
-    }
-    startPlayback ();
-    do
-      item = playback_->take (what, timeout_s_, delivered_, size_);
-    while (item.index < previous + 1);
-  }
-  ++delivered_;
-  Playback &p = *playback_;
-  p.have_index = true;
-  p.last_index = item.index;
+  // OpenNI2's recorder numbers frames 1, 2, 3, ...: a gap means playback lost frames.
+  const unsigned previous = last_index_;
+  last_index_ = item.index;
+  if (item.index != previous + 1)
+    throw pcl::IOException (what + "frame index " + std::to_string (item.index) + " followed " + std::to_string (previous) +
+                            ": playback lost or reordered frames");
+  if (!item.error.empty ())
+    throw pcl::IOException (what + "cannot copy depth frame " + std::to_string (item.index) + " (" +
+                            description (std::runtime_error (item.error)) + ")");
   if (item.width != info_.width || item.height != info_.height)
     throw pcl::IOException (what + "frame " + std::to_string (item.index) + " is " + sizeText (item.width, item.height) +
                             " but the depth stream is " + sizeText (info_.width, info_.height));
@@ -978,14 +899,7 @@ OniReader::next (DepthFrame &frame)
   if (item.bytes < 0 || std::size_t (item.bytes) < expected_bytes)
     throw pcl::IOException (what + "frame " + std::to_string (item.index) + " holds " + std::to_string (item.bytes) +
                             " bytes of depth, expected " + std::to_string (expected_bytes) + ": corrupt recording");
-
-  char name[16];
-  std::snprintf (name, sizeof (name), "%06u", item.index);
-  frame.name = name;
-  frame.width = item.width;
-  frame.height = item.height;
-  frame.depth_mm = std::move (item.depth_mm);
-  frame.rgb.clear ();
+  item.moveInto (frame);
   return true;
 }
 

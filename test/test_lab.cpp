@@ -27,9 +27,11 @@ imageWidth ()
   return w ? std::atoi (w) : 320;
 }
 
-/** Five plane recordings (0.8 to 3 m, 30 frames) with effect \a effect switched on ("" for none). */
+/** Five plane recordings (0.8 to 3 m, 30 frames) with effect \a effect switched on ("" for none);
+  * \a stripe_period: frames one layout of vertical stripes lasts (0: the effect's default, 10).
+  */
 std::vector<lab::RecordingMeasurement::ConstPtr>
-simulatePlanes (const std::string &effect, std::uint32_t seed)
+simulatePlanes (const std::string &effect, std::uint32_t seed, int stripe_period = 0)
 {
   const int W = imageWidth (), H = W * 3 / 4;
   const double distances[5] = {0.8, 1.35, 1.9, 2.45, 3.0};
@@ -63,10 +65,8 @@ simulatePlanes (const std::string &effect, std::uint32_t seed)
       settings.seed = seed;
       first_frame = 1000 * k;
     }
-    if (effect == "vertical_stripes")
-      // A new layout every 2 frames (default 10): with 3 layouts in 30 frames a band's SD is a
-      // draw of 3 offsets, which no noise model can predict pixel by pixel.
-      settings.effects.vertical_stripes.period_frames = 2;
+    if (effect == "vertical_stripes" && stripe_period > 0)
+      settings.effects.vertical_stripes.period_frames = stripe_period;
     sim::KinectSimulator simulator (setup.scene, setup.sensors (sim::DepthSensor::kinect (W, H)), settings);
     const auto frames = simulator.simulate (0, first_frame, 30);
     std::ostringstream meta;
@@ -83,11 +83,11 @@ struct LabRun
 };
 
 LabRun
-runLab (const std::string &effect, std::uint32_t seed)
+runLab (const std::string &effect, std::uint32_t seed, int stripe_period = 0)
 {
   lab::LabSettings settings;
   lab::ModelLab lab (settings);
-  for (const auto &r : simulatePlanes (effect, seed))
+  for (const auto &r : simulatePlanes (effect, seed, stripe_period))
     lab.addRecording (r);
   LabRun run;
   const NoiseModel paper = NoiseModel::paper ();
@@ -111,22 +111,37 @@ runLab (const std::string &effect, std::uint32_t seed)
   return run;
 }
 
+/** The hidden \a effect must be ranked first and significant, and adding it must bring the error
+  * where it shows to at most \a max_ratio of the paper's (the issue: at least half).
+  */
 void
-expectFound (const std::string &effect, bool shows_in_bias, std::uint32_t seed)
+expectFound (const std::string &effect, bool shows_in_bias, std::uint32_t seed, int stripe_period = 0,
+             double max_ratio = 0.5)
 {
-  const LabRun run = runLab (effect, seed);
+  const LabRun run = runLab (effect, seed, stripe_period);
   ASSERT_FALSE (run.candidates.empty ());
   EXPECT_EQ (run.candidates.front ().effect, effect);
   EXPECT_TRUE (run.candidates.front ().significant);
   const double before = shows_in_bias ? run.before.bias_rmse_mm : run.before.sd_rmse_mm;
   const double after = shows_in_bias ? run.after.bias_rmse_mm : run.after.sd_rmse_mm;
-  EXPECT_LE (after, 0.5 * before) << (shows_in_bias ? "bias_rmse_mm" : "sd_rmse_mm");
+  EXPECT_LE (after, max_ratio * before) << (shows_in_bias ? "bias_rmse_mm" : "sd_rmse_mm");
 }
 
 } // namespace
 
 TEST (ModelLabProof, FindsDisparityQuantization) { expectFound ("disparity_quantization", false, 11); }
-TEST (ModelLabProof, FindsVerticalStripes) { expectFound ("vertical_stripes", false, 12); }
+// At the default period (a new layout every 10 frames) each column shows 3 layouts in 30 frames:
+// its measured temporal SD rests on 3 draws of a band offset, which no model can predict pixel
+// by pixel. Even the best constant prediction per recording, knowing the simulated truth, leaves
+// about 0.52 of the paper's sd_rmse (docs/model_lab.md section 7), so halving is out of reach
+// there; the lab must still find the stripes and make the error fall.
+TEST (ModelLabProof, FindsVerticalStripes) { expectFound ("vertical_stripes", false, 12, 0, 0.75); }
+// With a new layout every 2 frames (15 layouts) the per-pixel SD is predictable: the issue's
+// criterion, the error halves.
+TEST (ModelLabProof, FindsVerticalStripesHalvingTheErrorWithFastLayouts)
+{
+  expectFound ("vertical_stripes", false, 12, 2);
+}
 TEST (ModelLabProof, FindsIncidenceAngle) { expectFound ("incidence_angle", false, 13); }
 TEST (ModelLabProof, FindsDepthDistortion) { expectFound ("depth_distortion", true, 14); }
 TEST (ModelLabProof, FindsInterference) { expectFound ("interference", false, 15); }

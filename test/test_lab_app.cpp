@@ -3,7 +3,15 @@
  * report's files and keys, the model it writes loaded by pcl_texlet_extract, the real Kinect
  * frames, and bad input (exit 2, one line on stderr).
  */
+#include <pcl_texlet/depth_image.h>
+#include <pcl_texlet/lab/recording_measurement.h>
 #include <pcl_texlet/noise_model_io.h>
+#include <pcl_texlet/noise_terms.h>
+#include <pcl_texlet/pinhole_model.h>
+#include <pcl_texlet/recording_readers.h>
+#include <pcl_texlet/texlet_estimation.h>
+
+#include <pcl/io/pcd_io.h>
 
 #include <nlohmann/json.hpp>
 
@@ -12,6 +20,7 @@
 #include "support/app_run.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -159,6 +168,104 @@ TEST_F (LabApp, SessionWritesTheReportAndAModelTheExtractorLoads)
                         (workDir () / "wall_0").string () + " " + (workDir () / "texlets").string ());
   EXPECT_EQ (e.code, 0) << e.err;
   EXPECT_TRUE (fs::exists (workDir () / "texlets" / "000000.pcd"));
+}
+
+/** Texlets of the first frame of \a recording with \a model, every disc point an inlier, Analytic
+  * covariances, and the noise context \a context (nullptr: TexletEstimation's default).
+  */
+pcl::PointCloud<pcl::Texlet>
+texletsInProcess (const fs::path &recording, const pcl::texlet::NoiseModel &model,
+                  const pcl::texlet::PixelContext *context)
+{
+  auto reader = pcl::texlet::openRecording (recording.string ());
+  pcl::texlet::DepthFrame frame;
+  EXPECT_TRUE (reader->next (frame));
+  const auto camera =
+      std::make_shared<pcl::texlet::PinholeModel> (pcl::texlet::PinholeModel::fromCameraInfo (reader->cameraInfo ()));
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
+  pcl::texlet::depthToCloud (frame, *camera, *cloud);
+  pcl::TexletEstimation<pcl::PointXYZRGBA> est;
+  est.setNoiseModel (model);
+  if (context)
+    est.setNoiseContext (*context);
+  est.setUncertaintyMethod (pcl::texlet::UncertaintyMethod::Analytic);
+  est.setRansacThreshold (1.0);
+  est.setCameraModel (camera);
+  est.setInputCloud (cloud);
+  pcl::PointCloud<pcl::Texlet> out;
+  est.compute (out);
+  return out;
+}
+
+/** Median over the texlets valid in both of a's over b's trace of Sigma_P, and how many. */
+double
+medianCovarianceRatio (const pcl::PointCloud<pcl::Texlet> &a, const pcl::PointCloud<pcl::Texlet> &b, std::size_t &n)
+{
+  std::vector<double> ratio;
+  for (std::size_t k = 0; k < std::min (a.size (), b.size ()); ++k)
+  {
+    const double ta = a[k].cov_p_xx + a[k].cov_p_yy + a[k].cov_p_zz, tb = b[k].cov_p_xx + b[k].cov_p_yy + b[k].cov_p_zz;
+    if (std::isfinite (ta) && std::isfinite (tb) && tb > 0)
+      ratio.push_back (ta / tb);
+  }
+  n = ratio.size ();
+  if (ratio.empty ())
+    return std::nan ("");
+  std::nth_element (ratio.begin (), ratio.begin () + ratio.size () / 2, ratio.end ());
+  return ratio[ratio.size () / 2];
+}
+
+TEST_F (LabApp, ExtractorGivesTheModelTheRecordingsProjectorsAndFb)
+{
+  // As the lab fits a model, pcl_texlet_extract must evaluate it with the recording's f b
+  // (camera.yaml) and active projectors (meta.yaml). Two models whose covariances scale in
+  // closed form with one of them each (Analytic covariances are linear in the pixels' variances).
+  const fs::path wall = workDir () / "wall_2"; // 3 projectors, 160 x 120
+  const pcl::texlet::CameraInfo info = pcl::texlet::loadCameraInfoYaml ((wall / "camera.yaml").string ());
+  const pcl::texlet::PixelContext context =
+      pcl::texlet::lab::recordingNoiseContext (info, pcl::texlet::lab::readMetaYaml (wall.string ()), wall.string ());
+  ASSERT_EQ (context.active_projectors, 3.0);
+  ASSERT_NEAR (context.fb_px_m, info.fx () * info.baseline_m, 1e-12);
+
+  // The paper's polynomial with interference at gain 1: variance x (1 + 1 x (3 - 1)) at 3 projectors.
+  pcl::texlet::NoiseModel interference = pcl::texlet::NoiseModel::paper ();
+  {
+    auto term = pcl::texlet::makeNoiseTerm ("interference");
+    term->setParameters ({1.0});
+    interference.add (*term);
+  }
+  // Quantisation alone: phase-averaged variance J^2 step^2 / 12 with J = z^2 / (f b).
+  pcl::texlet::NoiseModel quantisation;
+  {
+    auto term = pcl::texlet::makeNoiseTerm ("disparity_quantization");
+    term->setParameters ({0.125});
+    quantisation.add (*term);
+  }
+  const struct
+  {
+    const char *name;
+    pcl::texlet::NoiseModel model;
+    double expected_ratio; // extract's covariances over those with TexletEstimation's default context
+  } cases[2] = {{"interference", interference, 3.0},
+                {"quantisation", quantisation, std::pow (pcl::texlet::PixelContext ().fb_px_m / context.fb_px_m, 2)}};
+  for (const auto &c : cases)
+  {
+    const fs::path yaml = workDir () / (std::string (c.name) + ".yaml"), out = workDir () / ("context_" + std::string (c.name));
+    pcl::texlet::saveNoiseModelYaml (yaml.string (), c.model);
+    const Result e = run (std::string (EXTRACT_APP) + " -q --frames 1 -u analytic -t 1000 --noise-model " + yaml.string () +
+                          " " + wall.string () + " " + out.string ());
+    ASSERT_EQ (e.code, 0) << e.err;
+    pcl::PointCloud<pcl::Texlet> extracted;
+    ASSERT_EQ (pcl::io::loadPCDFile ((out / "000000.pcd").string (), extracted), 0);
+    std::size_t n = 0;
+    // Against the closed form.
+    EXPECT_NEAR (medianCovarianceRatio (extracted, texletsInProcess (wall, c.model, nullptr), n), c.expected_ratio,
+                 1e-3 * c.expected_ratio)
+        << c.name;
+    EXPECT_GT (n, 50u);
+    // And the same texlets as TexletEstimation with the recording's context.
+    EXPECT_NEAR (medianCovarianceRatio (extracted, texletsInProcess (wall, c.model, &context), n), 1.0, 1e-4) << c.name;
+  }
 }
 
 TEST_F (LabApp, RealKinectFramesAreCompared)

@@ -10,6 +10,7 @@
 #include <pcl_texlet/frame_skipping_reader.h>
 #include <pcl_texlet/depth_image.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
+#include <pcl_texlet/lab/recording_measurement.h>
 #include <pcl_texlet/pinhole_model.h>
 #include <pcl_texlet/recording.h>
 #include <pcl_texlet/recording_readers.h>
@@ -156,6 +157,7 @@ public:
     pcl::TexletEstimation<PointT> est;
     est.setParameters (o_.params);
     est.setNoiseModel (o_.noise);
+    est.setNoiseContext (context_);
     est.setNumberOfThreads (o_.threads);
     est.setInputCloud (cloud);
     est.setCameraModel (camera_ ? camera_ : camera);
@@ -199,6 +201,13 @@ public:
   void
   setFrameCount (std::size_t n) { frames_total_ = n; }
 
+  /** What the noise model needs that a cloud does not carry (f b, frame, projectors), as the lab
+    * sets it when it fits the model; the default (a VGA Kinect v1, steady state, one projector)
+    * for clouds from PCD files.
+    */
+  void
+  setNoiseContext (const pcl::texlet::PixelContext &context) { context_ = context; }
+
   void
   noteSkipped (std::size_t n) { sum_.skipped += n; }
 
@@ -208,6 +217,7 @@ public:
 private:
   const Options &o_;
   CameraModel::ConstPtr camera_;
+  pcl::texlet::PixelContext context_;
   Summary sum_;
   std::size_t frames_total_ = 1;
 };
@@ -273,19 +283,27 @@ warnSkipped (const std::string &message)
   std::cerr << kName << ": warning: skipped a frame that cannot be read: " << message << std::endl;
 }
 
-/** Every frame of a recording, back-projected with the recording's own camera. */
+/** Every frame of a recording, back-projected with the recording's own camera. The noise model
+  * gets what the recording knows, as in the lab that fits it: f b from its camera (the terms
+  * defined in disparity, at its resolution), the active projectors from \a meta_yaml (its
+  * meta.yaml text, "" for none) and each frame's index (in the order read, as the lab counts).
+  */
 void
 extractRecording (Extractor &ex, pcl::texlet::RecordingReader &reader, pcl::texlet::RecordingKind kind,
-                  const std::string &input, const std::string &out_dir, std::size_t max_frames = 0)
+                  const std::string &input, const std::string &out_dir, const std::string &meta_yaml,
+                  std::size_t max_frames = 0)
 {
   const auto &info = reader.cameraInfo ();
   const auto camera = std::make_shared<pcl::texlet::PinholeModel> (pcl::texlet::PinholeModel::fromCameraInfo (info));
+  pcl::texlet::PixelContext context = pcl::texlet::lab::recordingNoiseContext (info, meta_yaml, input);
   const std::size_t frames = max_frames > 0 ? std::min (max_frames, reader.size ()) : reader.size ();
   ex.setFrameCount (frames);
   pcl::texlet::DepthFrame frame;
   auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
   for (std::size_t read = 0; read < frames && reader.next (frame); ++read)
   {
+    context.frame = static_cast<double> (read);
+    ex.setNoiseContext (context);
     pcl::texlet::depthToCloud (frame, *camera, *cloud);
     // Names the frame's file where there is one, else the frame within the input.
     const std::string source = kind == pcl::texlet::RecordingKind::recording_folder
@@ -403,7 +421,7 @@ run (int argc, char **argv)
     pcl::texlet::OpenNI2DeviceReader reader (o.input == "sensor" ? "" : o.input.substr (7), o.frames);
     pcl_texlet_app::FolderGuard made (fs::exists (o.output) ? fs::path () : fs::path (o.output));
     fs::create_directories (o.output);
-    extractRecording (ex, reader, pcl::texlet::RecordingKind::oni_file, o.input, o.output);
+    extractRecording (ex, reader, pcl::texlet::RecordingKind::oni_file, o.input, o.output, "");
     made.release ();
     printSummary (ex.summary (), o);
     return 0;
@@ -431,12 +449,13 @@ run (int argc, char **argv)
     else
     {
       pcl::texlet::RecordingReader::Ptr reader = pcl::texlet::openRecording (o.input);
+      const std::string meta = pcl::texlet::lab::readMetaYaml (o.input);
       frames = reader->size ();
       std::shared_ptr<pcl::texlet::FrameSkippingReader> skipping;
       if (skip)
         reader = skipping = std::make_shared<pcl::texlet::FrameSkippingReader> (reader, warnSkipped);
       fs::create_directories (o.output);
-      extractRecording (ex, *reader, kind, o.input, o.output, o.frames);
+      extractRecording (ex, *reader, kind, o.input, o.output, meta, o.frames);
       if (skipping)
         ex.noteSkipped (skipping->skipped ());
     }

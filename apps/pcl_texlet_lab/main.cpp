@@ -60,17 +60,7 @@ measure (const std::string &path, std::size_t max_frames, bool skip, std::size_t
       std::cerr << kName << ": warning: skipped a frame that cannot be read: " << m << std::endl;
     });
   pcl_texlet_app::EvenlySpacedFrames kept (reader, max_frames);
-  std::string meta;
-  const std::filesystem::path meta_path = std::filesystem::path (path) / "meta.yaml";
-  std::error_code ec;
-  if (std::filesystem::is_regular_file (meta_path, ec))
-  {
-    std::ifstream in (meta_path);
-    std::stringstream text;
-    text << in.rdbuf ();
-    meta = text.str ();
-  }
-  auto m = lab::measureRecording (kept, path, meta);
+  auto m = lab::measureRecording (kept, path, lab::readMetaYaml (path));
   if (skipping)
     skipped += skipping->skipped ();
   return m;

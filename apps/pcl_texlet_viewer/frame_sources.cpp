@@ -1,6 +1,7 @@
 #include "frame_sources.h"
 
 #include <pcl_texlet/depth_image.h>
+#include <pcl_texlet/guarded_openni2_grabber.h>
 #include <pcl_texlet/pinhole_model.h>
 #include <pcl_texlet/recording.h>
 #include <pcl_texlet/recording_readers.h>
@@ -137,13 +138,15 @@ private:
   pcl::texlet::CameraModel::ConstPtr camera_;
 };
 
-/** An OpenNI2 device or .oni file through PCL's grabber: the newest cloud wins. */
+/** An OpenNI2 device or .oni file through PCL's grabber, guarded so that it stops safely while
+  * frames flow: the newest cloud wins.
+  */
 class GrabberSource : public FrameSource
 {
 public:
   explicit GrabberSource (const std::string &device) : device_ (device.empty () ? "first OpenNI2 sensor" : device)
   {
-    grabber_ = std::make_unique<pcl::io::OpenNI2Grabber> (device);
+    grabber_ = std::make_unique<pcl::texlet::GuardedOpenNI2Grabber> (device);
     using DepthOnlyCloud = pcl::PointCloud<pcl::PointXYZ>;
     if (grabber_->providesCallback<void (const Cloud::ConstPtr &)> ())
     {
@@ -170,8 +173,9 @@ public:
 
   ~GrabberSource () override
   {
-    if (grabber_->isRunning ())
-      grabber_->stop ();
+    // Waits for the grabber's callbacks in flight (they use mutex_ and latest_) before the
+    // members go; PCL's own stop () would not.
+    grabber_->stop ();
   }
 
   bool
@@ -196,7 +200,7 @@ public:
 
 private:
   std::string device_;
-  std::unique_ptr<pcl::io::OpenNI2Grabber> grabber_;
+  std::unique_ptr<pcl::texlet::GuardedOpenNI2Grabber> grabber_;
   std::mutex mutex_;
   Cloud::ConstPtr latest_;
 };

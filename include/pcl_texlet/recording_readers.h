@@ -141,16 +141,18 @@ private:
 
 /** \brief Reader of .oni recordings, played back through pcl::io::OpenNI2Grabber.
   *
-  * The grabber's depth-image callback copies each frame into a small bounded queue that next ()
-  * waits on, at most \a timeout_s seconds, so that a file OpenNI2 cannot play never hangs the
-  * caller. Playback is switched to OpenNI2's manual mode with repeat off, on the same
-  * (reference-counted) OpenNI2 device the grabber opened: the grabber alone offers only a
-  * playback speed, and neither real time nor as-fast-as-possible is free of dropped frames (see
-  * the notes in recording_readers.cpp). In manual mode a frame is released only when next () asks
-  * for one, so no frame is lost and a slow caller never makes the queue grow.
+  * Every depth frame of the file comes out once, in file order, unchanged: the grabber's
+  * depth-image callback copies each frame into a small queue that next () takes it from.
+  * OpenNI2's player runs in manual mode with repeat off, on the same (reference-counted) OpenNI2
+  * device the grabber opened, and next () releases the file's records one at a time, each only
+  * after the grabber has delivered the previous depth frame, so that OpenNI2 never replaces a
+  * frame the grabber has not read (see the notes in recording_readers.cpp). A slow caller holds
+  * the player, it loses nothing. Every wait is bounded by \a timeout_s seconds, so that a file
+  * OpenNI2 cannot play never hangs the caller.
   *
-  * Frames come out in file order and are checked to be consecutive; their names are the 1-based
-  * frame index, zero-padded to six digits. Only the depth stream is read (no colour).
+  * Frames are checked to be consecutive; their names are the 1-based frame index, zero-padded to
+  * six digits. Only the depth stream is read (no colour). After the last frame the playback is
+  * closed.
   *
   * Intrinsics: an .oni file stores the depth stream's field of view, not a calibration, so the
   * focal length is the grabber's (width / (2 tan (hFOV / 2))) for both axes and the principal
@@ -186,15 +188,12 @@ public:
 
 private:
   struct Playback;
-  /** \brief Opens the file's playback (again, from its first frame) and reads its stream's info. */
-  void
-  startPlayback ();
-
   std::string file_;
   double timeout_s_;
   CameraInfo info_;
   std::size_t size_ = 0;
   std::size_t delivered_ = 0;
+  unsigned last_index_ = 0; ///< frame index of the last frame taken
   std::unique_ptr<Playback> playback_;
 };
 

@@ -1025,15 +1025,20 @@ withTerm (const NoiseModel &model, const std::string &name, const std::vector<Re
   * at its camera.yaml value doubles that variance while the joint fit stalls in the valley
   * between them (at 640 x 480, where the noise is 0.2 to 0.5 of a step, it ended at step 0.085
   * with a worse fit and fell back to the nested model; docs/model_lab.md section 7).
+  * \a fits: -1 both fits and the better; 0 only the fit from \a fitted; 1 only the one from
+  * \a given (so that the two can run in parallel; the caller then keeps the better).
   */
 NoiseModel
 fitWithEffect (const NoiseModel &fitted, const NoiseModel &given, const std::string &name, const ModelLab::Data &d,
                const std::vector<RecordingMeasurement::ConstPtr> &recs, const LabSettings &settings,
-               double nested_objective)
+               double nested_objective, int fits = -1)
 {
   const int added = static_cast<int> (fitted.terms ().size ());
+  const bool two_fits = name == "disparity_quantization" && given.terms ().size () == fitted.terms ().size ();
+  if (fits == 1 && two_fits)
+    return fitOn (withTerm (given, name, recs), d, recs, settings, added, nested_objective);
   NoiseModel m = fitOn (withTerm (fitted, name, recs), d, recs, settings, added, nested_objective);
-  if (name != "disparity_quantization" || given.terms ().size () != fitted.terms ().size ())
+  if (fits >= 0 || !two_fits)
     return m;
   NoiseModel alt = fitOn (withTerm (given, name, recs), d, recs, settings, added, nested_objective);
   NoiseModel m_copy (m), alt_copy (alt);
@@ -1291,6 +1296,37 @@ ModelLab::addEffect (const NoiseModel &current, const std::string &effect) const
   return fitWithEffect (base, current, effect, d, recordings_, settings_, nested);
 }
 
+namespace
+{
+
+/** Runs task (i) for i in [0, n) in parallel over \a threads, dynamically scheduled; the first
+  * exception thrown is rethrown after the loop (an exception must not leave an OpenMP region).
+  */
+template <typename Task>
+void
+parallelTasks (int n, int threads, const Task &task)
+{
+  std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+  for (int i = 0; i < n; ++i)
+  {
+    try
+    {
+      task (i);
+    }
+    catch (...)
+    {
+#pragma omp critical(lab_error)
+      if (!error)
+        error = std::current_exception ();
+    }
+  }
+  if (error)
+    std::rethrow_exception (error);
+}
+
+} // namespace
+
 std::vector<Candidate>
 ModelLab::rankCandidates (const NoiseModel &current) const
 {
@@ -1340,75 +1376,110 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     out.push_back (c);
   }
 
-  // The current model refitted on the fit half is what every candidate has to beat.
+  // Data sets: 0 is the real data; 1 .. null_replicates are drawn from the current model (the
+  // null: the same fits where no effect is missing). On each, the current model refitted on the
+  // fit half is what every candidate has to beat.
+  struct DataSet
+  {
+    const Data *fit = nullptr, *score = nullptr;
+    std::unique_ptr<Data> own_fit, own_score;
+    NoiseModel given, fitted; // the model the candidates start from as given, and refitted
+    double fitted_score = 0, fitted_objective = 0;
+  };
+  const int S = 1 + std::max (0, settings_.null_replicates);
+  std::vector<DataSet> sets (S);
+  auto refit = [&] (DataSet &set) {
+    set.fitted = fitOn (set.given, *set.fit, recordings_, settings_);
+    set.fitted_score = scoreOn (set.fitted, *set.score, recordings_);
+    StaticState state;
+    set.fitted_objective = fitObjective (set.fitted, *set.fit, recordings_, state);
+  };
   say ("lab: refitting the current model on the fit half");
-  NoiseModel base = fitOn (current, A, recordings_, settings_);
-  const double base_score = scoreOn (base, B, recordings_);
-  StaticState base_state;
-  const double base_fit = fitObjective (base, A, recordings_, base_state);
-  std::vector<double> gains (out.size (), 0.0);
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-  for (int k = 0; k < static_cast<int> (out.size ()); ++k)
-  {
-    try
-    {
-      Candidate &c = out[k];
-      if (!c.applicable)
-        continue;
-      c.model = fitWithEffect (base, current, c.effect, A, recordings_, settings_, base_fit);
-      c.gain = base_score - scoreOn (c.model, B, recordings_);
-      c.metrics = evaluate (c.model, Half::score);
-#pragma omp critical(lab_progress)
-      say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample");
-    }
-    catch (...)
-    {
-#pragma omp critical(lab_error)
-      if (!error)
-        error = std::current_exception ();
-    }
-  }
-  if (error)
-    std::rethrow_exception (error);
-
-  // Null: the same fits on data drawn from the current model, where no effect is missing.
-  std::vector<std::vector<double>> null_gains (out.size ());
+  sets[0].fit = &A;
+  sets[0].score = &B;
+  sets[0].given = current;
+  refit (sets[0]);
+  const NoiseModel &base = sets[0].fitted;
   std::mt19937_64 rng (settings_.seed);
-  for (int rep = 0; rep < settings_.null_replicates; ++rep)
+  for (int rep = 1; rep < S; ++rep)
   {
-    say ("lab: significance, bootstrap data set " + std::to_string (rep + 1) + " of " +
-         std::to_string (settings_.null_replicates));
-    const auto syn_a = synthesise (A, base, recordings_, rng);
-    const auto syn_b = synthesise (B, base, recordings_, rng);
-    NoiseModel nbase = fitOn (base, *syn_a, recordings_, settings_);
-    const double nscore = scoreOn (nbase, *syn_b, recordings_);
-    StaticState nstate;
-    const double nfit = fitObjective (nbase, *syn_a, recordings_, nstate);
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-    for (int k = 0; k < static_cast<int> (out.size ()); ++k)
-    {
-      try
-      {
-        if (!out[k].applicable)
-          continue;
-        // As for the real data: the model as given (here the one the data were drawn from) and
-        // its refit.
-        const NoiseModel m = fitWithEffect (nbase, base, out[k].effect, *syn_a, recordings_, settings_, nfit);
-        const double g = nscore - scoreOn (m, *syn_b, recordings_);
-#pragma omp critical(lab_null)
-        null_gains[k].push_back (g);
-      }
-      catch (...)
-      {
-#pragma omp critical(lab_error)
-        if (!error)
-          error = std::current_exception ();
-      }
-    }
-    if (error)
-      std::rethrow_exception (error);
+    say ("lab: significance, drawing bootstrap data set " + std::to_string (rep) + " of " + std::to_string (S - 1));
+    DataSet &set = sets[rep];
+    set.own_fit = synthesise (A, base, recordings_, rng);
+    set.own_score = synthesise (B, base, recordings_, rng);
+    set.fit = set.own_fit.get ();
+    set.score = set.own_score.get ();
+    // As for the real data: the model as given (here the one the data were drawn from) and its
+    // refit.
+    set.given = base;
   }
+  say ("lab: refitting the current model on the bootstrap data sets");
+  parallelTasks (S - 1, threads, [&] (int i) { refit (sets[i + 1]); });
+
+  // Every fit of a candidate on every data set is one task, so that the two threads stay busy
+  // to the end (disparity_quantization, fitted twice, costs more than the others together).
+  struct Fit
+  {
+    int set, candidate;
+    bool from_given; // disparity_quantization's second fit, on top of the model as given
+    NoiseModel model;
+    double objective = 0;
+  };
+  std::vector<Fit> fits;
+  for (int set = 0; set < S; ++set)
+    for (int k = 0; k < static_cast<int> (out.size ()); ++k)
+      if (out[k].applicable)
+      {
+        fits.push_back ({set, k, false, NoiseModel (), 0.0});
+        if (out[k].effect == "disparity_quantization" &&
+            sets[set].given.terms ().size () == sets[set].fitted.terms ().size ())
+          fits.push_back ({set, k, true, NoiseModel (), 0.0});
+      }
+  say ("lab: fitting " + std::to_string (out.size ()) + " candidates on " + std::to_string (S) + " data sets (" +
+       std::to_string (fits.size ()) + " fits)");
+  // The longest first: disparity_quantization's fits, then the rest in order.
+  std::vector<int> order (fits.size ());
+  std::iota (order.begin (), order.end (), 0);
+  std::stable_partition (order.begin (), order.end (),
+                         [&] (int i) { return out[fits[i].candidate].effect == "disparity_quantization"; });
+  parallelTasks (static_cast<int> (fits.size ()), threads, [&] (int i) {
+    Fit &f = fits[order[i]];
+    const DataSet &set = sets[f.set];
+    f.model = fitWithEffect (set.fitted, set.given, out[f.candidate].effect, *set.fit, recordings_, settings_,
+                             set.fitted_objective, f.from_given ? 1 : 0);
+    NoiseModel copy (f.model);
+    StaticState state;
+    f.objective = fitObjective (copy, *set.fit, recordings_, state);
+  });
+
+  // Per data set and candidate the better of its fits on the fit half, scored on the other half.
+  std::vector<std::vector<double>> null_gains (out.size (), std::vector<double> (S - 1, 0.0));
+  std::vector<int> chosen;
+  for (int i = 0; i < static_cast<int> (fits.size ()); ++i)
+  {
+    const bool same = !chosen.empty () && fits[chosen.back ()].set == fits[i].set &&
+                      fits[chosen.back ()].candidate == fits[i].candidate;
+    if (!same)
+      chosen.push_back (i);
+    else if (fits[i].objective < fits[chosen.back ()].objective)
+      chosen.back () = i;
+  }
+  parallelTasks (static_cast<int> (chosen.size ()), threads, [&] (int i) {
+    const Fit &f = fits[chosen[i]];
+    const DataSet &set = sets[f.set];
+    const double gain = set.fitted_score - scoreOn (f.model, *set.score, recordings_);
+    if (f.set > 0)
+    {
+      null_gains[f.candidate][f.set - 1] = gain;
+      return;
+    }
+    Candidate &c = out[f.candidate];
+    c.model = f.model;
+    c.gain = gain;
+    c.metrics = evaluate (c.model, Half::score);
+#pragma omp critical(lab_progress)
+    say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample");
+  });
   for (std::size_t k = 0; k < out.size (); ++k)
   {
     Candidate &c = out[k];

@@ -377,20 +377,36 @@ measureFrames (const std::vector<DepthFrame> &frames, const CameraInfo &camera, 
   return measureRecording (reader, name, meta_yaml, settings);
 }
 
+std::string
+readMetaYaml (const std::string &folder)
+{
+  const std::string meta_path = folder + "/meta.yaml";
+  if (!isFile (meta_path))
+    return "";
+  std::ifstream in (meta_path);
+  std::stringstream text;
+  text << in.rdbuf ();
+  if (!in && !in.eof ())
+    throw pcl::IOException ("cannot read '" + meta_path + "'");
+  return text.str ();
+}
+
+PixelContext
+recordingNoiseContext (const CameraInfo &camera, const std::string &meta_yaml, const std::string &name)
+{
+  RecordingMeasurement facts;
+  readSceneFacts (meta_yaml, name, facts);
+  PixelContext context;
+  context.fb_px_m = camera.fx () * camera.baseline_m;
+  context.active_projectors = facts.active_projectors;
+  return context;
+}
+
 RecordingMeasurement::Ptr
 measureRecording (const std::string &path, const MeasurementSettings &settings)
 {
   RecordingReader::Ptr reader = openRecording (path);
-  std::string meta;
-  const std::string meta_path = path + "/meta.yaml";
-  if (isFile (meta_path))
-  {
-    std::ifstream in (meta_path);
-    std::stringstream text;
-    text << in.rdbuf ();
-    meta = text.str ();
-  }
-  return measureRecording (*reader, path, meta, settings);
+  return measureRecording (*reader, path, readMetaYaml (path), settings);
 }
 
 } // namespace lab

@@ -79,24 +79,10 @@ lateralVariance (double sigma_edge_mm, double width_px, double edge_distance_px)
   return sigma_edge_mm * sigma_edge_mm * std::exp (-0.5 * x * x);
 }
 
-/** \brief Bilinear interpolation of a nodes_x x nodes_y grid (row-major) spanning the image
-  * [0, width - 1] x [0, height - 1] at pixel (u, v); outside, the border value.
+/** \brief Weights of the four nodes of a nodes_x x nodes_y grid (row-major) spanning the image
+  * [0, width - 1] x [0, height - 1] that bilinear interpolation at pixel (u, v) uses: their
+  * indices and weights; outside the image, those of the border.
   */
-PCL_TEXLET_HD double
-bilinearGrid (const double *nodes, int nodes_x, int nodes_y, double width, double height, double u, double v)
-{
-  double gx = (nodes_x - 1) * u / (width - 1.0), gy = (nodes_y - 1) * v / (height - 1.0);
-  gx = gx < 0 ? 0 : (gx > nodes_x - 1 ? nodes_x - 1 : gx);
-  gy = gy < 0 ? 0 : (gy > nodes_y - 1 ? nodes_y - 1 : gy);
-  int ix = static_cast<int> (gx), iy = static_cast<int> (gy);
-  ix = ix > nodes_x - 2 ? nodes_x - 2 : ix;
-  iy = iy > nodes_y - 2 ? nodes_y - 2 : iy;
-  const double fx = gx - ix, fy = gy - iy;
-  const double *r0 = nodes + iy * nodes_x + ix, *r1 = r0 + nodes_x;
-  return (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) + fy * ((1 - fx) * r1[0] + fx * r1[1]);
-}
-
-/** \brief Weights of the four grid nodes bilinearGrid uses at (u, v): indices and weights. */
 PCL_TEXLET_HD void
 bilinearGridWeights (int nodes_x, int nodes_y, double width, double height, double u, double v, int index[4],
                      double weight[4])
@@ -116,6 +102,19 @@ bilinearGridWeights (int nodes_x, int nodes_y, double width, double height, doub
   weight[1] = (1 - fy) * fx;
   weight[2] = fy * (1 - fx);
   weight[3] = fy * fx;
+}
+
+/** \brief Bilinear interpolation of a nodes_x x nodes_y grid (row-major) spanning the image
+  * [0, width - 1] x [0, height - 1] at pixel (u, v); outside, the border value.
+  */
+PCL_TEXLET_HD double
+bilinearGrid (const double *nodes, int nodes_x, int nodes_y, double width, double height, double u, double v)
+{
+  int index[4];
+  double weight[4];
+  bilinearGridWeights (nodes_x, nodes_y, width, height, u, v, index, weight);
+  return weight[0] * nodes[index[0]] + weight[1] * nodes[index[1]] + weight[2] * nodes[index[2]] +
+         weight[3] * nodes[index[3]];
 }
 
 /** \brief Mean offset and variance (px) of a disparity N(d0, sigma^2) rounded to multiples of

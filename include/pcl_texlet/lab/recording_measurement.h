@@ -13,6 +13,7 @@
  */
 #pragma once
 
+#include <pcl_texlet/noise_model.h>
 #include <pcl_texlet/recording.h>
 
 #include <cstdint>
@@ -96,6 +97,23 @@ measureRecording (RecordingReader &reader, const std::string &name, const std::s
 RecordingMeasurement::Ptr
 measureFrames (const std::vector<DepthFrame> &frames, const CameraInfo &camera, const std::string &name,
                const std::string &meta_yaml, const MeasurementSettings &settings = MeasurementSettings ());
+
+/** \brief Text of the meta.yaml in recording folder \a folder, or "" when there is none (or
+  * \a folder is a file, e.g. an .oni recording).
+  */
+std::string
+readMetaYaml (const std::string &folder);
+
+/** \brief What a recording tells the noise model beyond its frames, for
+  * pcl::TexletEstimation::setNoiseContext, as the lab uses it: `fb_px_m` from \a camera (fx times
+  * the baseline: the disparity-defined terms at the recording's resolution) and
+  * `active_projectors` from \a meta_yaml (`projectors`, 1 when absent). The frame index is the
+  * caller's to set per frame.
+  * \throws pcl::IOException naming \a name for a meta.yaml that is not valid YAML, malformed, or
+  *         gives fewer than 1 projector.
+  */
+PixelContext
+recordingNoiseContext (const CameraInfo &camera, const std::string &meta_yaml, const std::string &name);
 
 /** \brief Opens \a path with openRecording, reads its meta.yaml if it has one, and measures it.
   * \throws pcl::IOException / pcl::BadArgumentException naming the path.
