@@ -13,6 +13,12 @@ option(PCL_TEXLET_FUZZ "Build the libFuzzer targets in test/fuzz (needs clang; i
 if(PCL_TEXLET_SANITIZE OR PCL_TEXLET_FUZZ)
   set(_pcl_texlet_san_flags -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_compile_options(${_pcl_texlet_san_flags})
+  # Under ASan Eigen stops trusting malloc's 16-byte alignment and switches to its own offset
+  # allocator (Eigen/src/Core/util/Memory.h tests __SANITIZE_ADDRESS__), while Debian's
+  # uninstrumented PCL keeps plain malloc/free: a PointCloud or grabber allocated on one side and
+  # freed on the other would be freed at the wrong address. ASan's malloc is 16-byte aligned on
+  # x86-64 (glibc's ABI), so the instrumented build keeps PCL's allocator.
+  add_compile_definitions(EIGEN_MALLOC_ALREADY_ALIGNED=1)
   add_link_options(-fsanitize=address,undefined)
 endif()
 

@@ -375,7 +375,10 @@ TEST_F (ExtractApp, LongRecordingsStreamInBoundedMemory)
     const Result sim = pcl_texlet_test::runApp (SIM_APP, "--width 160 --height 120 --frames " + std::to_string (frames) +
                                                              " --seed 5 -q " + rec.string (), dir);
     ASSERT_EQ (sim.code, 0) << sim.err;
-    const Result r = run (rec.string () + " " + out.string () + " -q -j 1 --spacing 2 --uncertainty none");
+    const Result r = pcl_texlet_test::runCommand (pcl_texlet_test::kPeakMemoryEnvironment + std::string (EXTRACT_APP) + " " +
+                                                      rec.string () + " " + out.string () +
+                                                      " -q -j 1 --spacing 2 --uncertainty none",
+                                                  dir);
     ASSERT_EQ (r.code, 0) << r.err;
     EXPECT_NE (r.out.find ("frames:                " + std::to_string (frames) + "\n"), std::string::npos) << r.out;
     peak[k++] = r.peak_rss_kb;

@@ -346,7 +346,7 @@ TEST_F (LabApp, LongRecordingsStreamInBoundedMemory)
   for (const fs::path &rec : {short_rec, long_rec})
   {
     const fs::path report = workDir () / ("bounded_" + std::to_string (k));
-    const Result r = run (std::string (LAB_APP) + " -j 1 --max-frames 20 --null-replicates 2 --report " +
+    const Result r = run (pcl_texlet_test::kPeakMemoryEnvironment + std::string (LAB_APP) + " -j 1 --max-frames 20 --null-replicates 2 --report " +
                           report.string () + " " + rec.string ());
     ASSERT_EQ (r.code, 0) << r.err;
     EXPECT_NE (r.out.find ("skipped frames: 0"), std::string::npos) << r.out;
