@@ -14,9 +14,11 @@
 #include <pcl/exceptions.h>
 #include <pcl/point_types.h> // pcl::traits::has_color_v
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <typeinfo>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -62,10 +64,12 @@ public:
   /** \param sigma_m per-pixel depth SD in metres, or null to evaluate the noise model here
     * \param context the noise model's covariates that a frame does not carry (frame index, f b,
     *        projectors), or null for the defaults
+    * \param radius_px per-pixel distance from the principal point (the camera's), or null
     */
   TexletWorker (const pcl::PointCloud<PointInT> &cloud, const TexletParameters &params, const CameraModel &camera,
-                const NoiseModel &noise, const double *sigma_m, const PixelContext *context = nullptr)
-    : cloud_ (cloud), params_ (params), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m),
+                const NoiseModel &noise, const double *sigma_m, const PixelContext *context = nullptr,
+                const double *radius_px = nullptr)
+    : cloud_ (cloud), params_ (params), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m), radius_px_ (radius_px),
       context_ (context ? *context : PixelContext ())
   {
     // Does the model's variance depend on the incidence angle? Then each texlet's covariances
@@ -222,8 +226,11 @@ private:
   modelSigma (int u, int v, double z) const
   {
     if (polynomial_only_) // the same bits without the noise terms' virtual calls
-      return kernels::polynomialSigmaMm (polynomial_, camera_.principalPointDistance (u, v), z * 1000.0,
-                                         noise_.minSigmaMm ()) * 1e-3;
+    {
+      const double r = radius_px_ ? radius_px_[static_cast<std::size_t> (v) * cloud_.width + u]
+                                  : camera_.principalPointDistance (u, v);
+      return kernels::polynomialSigmaMm (polynomial_, r, z * 1000.0, noise_.minSigmaMm ()) * 1e-3;
+    }
     return depthSigmaMetres (noise_, camera_, u, v, z, context_);
   }
 
@@ -304,6 +311,7 @@ private:
   const CameraModel &camera_;
   const NoiseModel &noise_;
   const double *sigma_m_;
+  const double *radius_px_; // per-pixel distance from the principal point, or null
   PixelContext context_;
   bool angle_dependent_ = false;
   bool polynomial_only_ = false;         // the noise model is the paper's polynomial alone
@@ -479,10 +487,45 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
   texlet::kernels::PolynomialCoefficients polynomial = {};
   const bool polynomial_only = noise_.isPolynomialOnly (polynomial);
   const double min_sigma_mm = noise_.minSigmaMm ();
+  // The paper's model needs each pixel's distance from the principal point: a virtual call and
+  // a hypot per pixel, the same for every frame of one camera, so kept. The five probes catch
+  // a camera object changed in place.
+  bool fill_radius = false;
+  if (polynomial_only && need_sigma)
+  {
+    const double probe[5] = {camera->principalPointDistance (0, 0), camera->principalPointDistance (w - 1, 0),
+                             camera->principalPointDistance (0, h - 1), camera->principalPointDistance (w - 1, h - 1),
+                             camera->principalPointDistance (w / 2, h / 2)};
+    // A pinhole's distances are hypot (u - cx, v - cy): the same principal point gives the same
+    // image, also for a camera estimated anew from each frame.
+    const auto *pinhole = dynamic_cast<const texlet::PinholeModel *> (camera.get ());
+    const auto *kept = dynamic_cast<const texlet::PinholeModel *> (radius_camera_.get ());
+    const bool same_camera = camera == radius_camera_ ||
+                             (pinhole && kept && typeid (*pinhole) == typeid (texlet::PinholeModel) &&
+                              typeid (*kept) == typeid (texlet::PinholeModel) && pinhole->cx () == kept->cx () &&
+                              pinhole->cy () == kept->cy ());
+    fill_radius = !same_camera || radius_width_ != cloud.width || radius_height_ != cloud.height ||
+                  !std::equal (probe, probe + 5, radius_probe_);
+    if (fill_radius)
+    {
+      radius_image_.resize (cloud.size ());
+      radius_camera_ = camera;
+      radius_width_ = cloud.width;
+      radius_height_ = cloud.height;
+      std::copy (probe, probe + 5, radius_probe_);
+    }
+  }
   const auto n = static_cast<std::ptrdiff_t> (indices_->size ());
   std::size_t made = 0;
 #pragma omp parallel num_threads(threads) reduction(+ : made)
   {
+    if (fill_radius)
+    {
+#pragma omp for schedule(static)
+      for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u)
+          radius_image_[static_cast<std::size_t> (v) * w + u] = camera->principalPointDistance (u, v);
+    }
     if (need_sigma)
     {
 #pragma omp for schedule(static)
@@ -492,14 +535,15 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
         if (polynomial_only)
           // The paper's model (the default): the same bits as NoiseModel::sigmaMm without its
           // virtual calls, which were 20 % of an analytic frame's instructions.
+        {
+          const double *const radius = radius_image_.data () + static_cast<std::size_t> (v) * w;
+          const PointInT *const points = &cloud (0, v);
           for (int u = 0; u < w; ++u)
-          {
-            const PointInT &p = cloud (u, v);
-            row[u] = texlet::isValidDepthPoint (p)
-                         ? texlet::kernels::polynomialSigmaMm (polynomial, camera->principalPointDistance (u, v),
-                                                               p.z * 1000.0, min_sigma_mm) * 1e-3
+            row[u] = texlet::isValidDepthPoint (points[u])
+                         ? texlet::kernels::polynomialSigmaMm (polynomial, radius[u], points[u].z * 1000.0,
+                                                               min_sigma_mm) * 1e-3
                          : std::numeric_limits<double>::quiet_NaN ();
-          }
+        }
         else
           for (int u = 0; u < w; ++u)
           {
@@ -511,7 +555,8 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
       }
     }
     texlet::detail::TexletWorker<PointInT> worker (cloud, params_, *camera, noise_,
-                                                   need_sigma ? sigma_image_.data () : nullptr, &noise_context_);
+                                                   need_sigma ? sigma_image_.data () : nullptr, &noise_context_,
+                                                   polynomial_only && need_sigma ? radius_image_.data () : nullptr);
 #pragma omp for schedule(dynamic, 64)
     for (std::ptrdiff_t i = 0; i < n; ++i)
       made += worker.compute ((*indices_)[i], output[i]) ? 1 : 0;
