@@ -6,6 +6,8 @@
  *   valgrind --tool=callgrind texlet_profile_run mc 1
  *   texlet_profile_run mc 2 --save before.pcd          (then, after the change)
  *   texlet_profile_run mc 2 --compare before.pcd       (largest differences per field)
+ *   texlet_profile_run mc 1 --frames 3                 (3 extractions of the frame with one
+ *                                                       estimator: what is kept across frames)
  *
  * method: none | analytic | mc. Exit code 2 and one line on stderr for bad arguments or files.
  */
@@ -84,7 +86,7 @@ int
 run (int argc, char **argv)
 {
   if (argc < 3)
-    throw std::invalid_argument ("usage: texlet_profile_run none|analytic|mc THREADS [--save F.pcd | --compare F.pcd]");
+    throw std::invalid_argument ("usage: texlet_profile_run none|analytic|mc THREADS [--save F.pcd | --compare F.pcd | --frames N]");
   const auto method = parseMethod (argv[1]);
   const int threads = std::atoi (argv[2]);
   if (threads < 1)
@@ -102,8 +104,17 @@ run (int argc, char **argv)
   est.setUncertaintyMethod (method);
   est.setMonteCarloSamples (50);
   est.setNumberOfThreads (static_cast<unsigned> (threads));
+  int frames = 1;
+  if (argc >= 5 && std::strcmp (argv[3], "--frames") == 0)
+  {
+    frames = std::atoi (argv[4]);
+    if (frames < 1)
+      throw std::invalid_argument (std::string ("frames '") + argv[4] + "' is not a positive number");
+    argc = 3;
+  }
   pcl::PointCloud<pcl::Texlet> out;
-  est.compute (out);
+  for (int f = 0; f < frames; ++f)
+    est.compute (out);
   std::printf ("%zu texlets\n", out.size ());
 
   if (argc >= 5 && std::strcmp (argv[3], "--save") == 0)

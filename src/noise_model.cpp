@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <typeinfo>
 
 namespace pcl
 {
@@ -130,6 +131,16 @@ double
 NoiseModel::biasMm (const PixelContext &ctx) const
 {
   return moments (ctx).bias_mm;
+}
+
+bool
+NoiseModel::isPolynomialOnly (kernels::PolynomialCoefficients &c) const
+{
+  // The exact type: a subclass may override variance ().
+  if (terms_.size () != 1 || typeid (*terms_.front ()) != typeid (PolynomialSigmaTerm))
+    return false;
+  c = static_cast<const PolynomialSigmaTerm &> (*terms_.front ()).coefficients ();
+  return true;
 }
 
 bool

@@ -8,6 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <memory>
 
 using namespace pcl::texlet;
 
@@ -87,4 +90,51 @@ TEST (NoiseModel, FloorAndInvalidDepth)
   PolynomialSigmaTerm t;
   EXPECT_THROW (t.setParameters ({1, 2, 3}), pcl::BadArgumentException);
   EXPECT_THROW (t.setParameters ({1, 2, 3, 4, 5, std::nan ("")}), pcl::BadArgumentException);
+}
+
+TEST (NoiseModel, PolynomialOnlyFastPathGivesTheBitsOfSigmaMm)
+{
+  using pcl::texlet::kernels::PolynomialCoefficients;
+  NoiseModel m = NoiseModel::paper ();
+  m.setMinSigmaMm (0.5);
+  PolynomialCoefficients c;
+  ASSERT_TRUE (m.isPolynomialOnly (c));
+  int compared = 0, floored = 0;
+  // Inside and far outside the fitted range (the polynomial dips below the floor there).
+  for (double r = 0.0; r <= 800.0; r += 7.3)
+    for (double d : {-5.0, 0.0, 1.0, 350.0, 700.0, 1234.5, 1750.0, 4000.0, 9000.0, 30000.0, 1e6, HUGE_VAL,
+                     std::nan ("")})
+    {
+      PixelContext ctx;
+      ctx.radius_px = r;
+      ctx.depth_mm = d;
+      const double slow = m.sigmaMm (ctx), fast = pcl::texlet::kernels::polynomialSigmaMm (c, r, d, m.minSigmaMm ());
+      if (std::isnan (slow))
+      {
+        EXPECT_TRUE (std::isnan (fast)) << "r " << r << " d " << d;
+        continue;
+      }
+      std::uint64_t a, b;
+      std::memcpy (&a, &slow, sizeof a);
+      std::memcpy (&b, &fast, sizeof b);
+      EXPECT_EQ (a, b) << "r " << r << " d " << d;
+      floored += slow == 0.5 ? 1 : 0;
+      ++compared;
+    }
+  EXPECT_GT (compared, 900);
+  EXPECT_GT (floored, 0); // the floor was exercised
+
+  // Any other term, or a subclass of the polynomial, takes the general path.
+  NoiseModel two = NoiseModel::paper ();
+  two.add (PolynomialSigmaTerm ());
+  EXPECT_FALSE (two.isPolynomialOnly (c));
+  EXPECT_FALSE (NoiseModel ().isPolynomialOnly (c));
+  struct Scaled : PolynomialSigmaTerm
+  {
+    double variance (const PixelContext &ctx) const override { return 4.0 * PolynomialSigmaTerm::variance (ctx); }
+    NoiseTerm::Ptr clone () const override { return std::make_shared<Scaled> (*this); }
+  };
+  NoiseModel sub;
+  sub.add (Scaled ());
+  EXPECT_FALSE (sub.isPolynomialOnly (c));
 }

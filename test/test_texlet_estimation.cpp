@@ -435,3 +435,46 @@ TEST (TexletEstimation, FreeFunctionMatchesTheClass)
       EXPECT_EQ (0, std::memcmp (&t, &out[i], sizeof (pcl::Texlet)));
   }
 }
+
+TEST (TexletEstimation, PerPixelNoiseFollowsTheCameraAndEqualsTheGeneralModel)
+{
+  // The paper's model is evaluated per pixel without virtual calls, from distances to the
+  // principal point kept between frames. A camera with another principal point must give what
+  // a fresh estimator gives, and a model that takes the general path (a second term that adds
+  // a zero variance) the very same bits.
+  const CameraSpec cam;
+  const auto noise = pcl::texlet::NoiseModel::paper ();
+  const Render r = render (sphereScene (), cam, &noise, 5);
+  const pcl::texlet::PinholeModel a = cam.pinhole ();
+  const auto b = std::make_shared<pcl::texlet::PinholeModel> (a.fx (), a.fy (), a.cx () + 40.5, a.cy () - 31.25);
+  pcl::texlet::NoiseModel general = pcl::texlet::NoiseModel::paper ();
+  general.add (pcl::texlet::PolynomialSigmaTerm ({0, 0, 0, 0, 0, 0}));
+  for (auto unc : {UncertaintyMethod::Analytic, UncertaintyMethod::MonteCarlo})
+  {
+    pcl::TexletEstimation<pcl::PointXYZ> est;
+    est.setInputCloud (r.cloud.makeShared ());
+    est.setUncertaintyMethod (unc);
+    est.setMonteCarloSamples (10);
+    est.setCameraModel (std::make_shared<pcl::texlet::PinholeModel> (a));
+    pcl::PointCloud<pcl::Texlet> first, second, fresh, slow;
+    est.compute (first);
+    est.setCameraModel (b);
+    est.compute (second);
+
+    pcl::TexletEstimation<pcl::PointXYZ> other;
+    other.setInputCloud (r.cloud.makeShared ());
+    other.setUncertaintyMethod (unc);
+    other.setMonteCarloSamples (10);
+    other.setCameraModel (b);
+    other.compute (fresh);
+    ASSERT_EQ (second.size (), fresh.size ());
+    EXPECT_EQ (0, std::memcmp (second.data (), fresh.data (), fresh.size () * sizeof (pcl::Texlet)));
+    // The principal point moved: the per-pixel SDs and so the covariances changed.
+    EXPECT_NE (0, std::memcmp (first.data (), second.data (), first.size () * sizeof (pcl::Texlet)));
+
+    other.setNoiseModel (general);
+    other.compute (slow);
+    ASSERT_EQ (slow.size (), fresh.size ());
+    EXPECT_EQ (0, std::memcmp (slow.data (), fresh.data (), fresh.size () * sizeof (pcl::Texlet)));
+  }
+}

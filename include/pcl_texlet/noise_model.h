@@ -203,6 +203,14 @@ public:
   double
   minSigmaMm () const { return min_sigma_mm_; }
 
+  /** \brief Whether the model is one PolynomialSigmaTerm and nothing else (the paper's model,
+    * the default); then \a c gets its coefficients and sigmaMm () equals
+    * kernels::polynomialSigmaMm (c, radius_px, depth_mm, minSigmaMm ()) bit for bit, which
+    * per-pixel loops can evaluate without the terms' virtual calls.
+    */
+  bool
+  isPolynomialOnly (kernels::PolynomialCoefficients &c) const;
+
 private:
   std::vector<NoiseTerm::Ptr> terms_;
   double min_sigma_mm_ = 0.1;

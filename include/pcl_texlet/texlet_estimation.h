@@ -198,6 +198,12 @@ private:
   texlet::CameraModel::ConstPtr camera_;
   unsigned int threads_ = 0;
   std::vector<double> sigma_image_; // per-pixel depth SD in metres, reused across frames
+  // Per-pixel distance from the principal point (the noise model's r), kept while the camera
+  // object, the image size and the distances at five probe pixels stay the same.
+  std::vector<double> radius_image_;
+  texlet::CameraModel::ConstPtr radius_camera_;
+  std::uint32_t radius_width_ = 0, radius_height_ = 0;
+  double radius_probe_[5] = {0, 0, 0, 0, 0};
 
 public:
   PCL_MAKE_ALIGNED_OPERATOR_NEW

@@ -14,9 +14,11 @@
 #include <pcl/exceptions.h>
 #include <pcl/point_types.h> // pcl::traits::has_color_v
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <typeinfo>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -62,10 +64,12 @@ public:
   /** \param sigma_m per-pixel depth SD in metres, or null to evaluate the noise model here
     * \param context the noise model's covariates that a frame does not carry (frame index, f b,
     *        projectors), or null for the defaults
+    * \param radius_px per-pixel distance from the principal point (the camera's), or null
     */
   TexletWorker (const pcl::PointCloud<PointInT> &cloud, const TexletParameters &params, const CameraModel &camera,
-                const NoiseModel &noise, const double *sigma_m, const PixelContext *context = nullptr)
-    : cloud_ (cloud), params_ (params), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m),
+                const NoiseModel &noise, const double *sigma_m, const PixelContext *context = nullptr,
+                const double *radius_px = nullptr)
+    : cloud_ (cloud), params_ (params), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m), radius_px_ (radius_px),
       context_ (context ? *context : PixelContext ())
   {
     // Does the model's variance depend on the incidence angle? Then each texlet's covariances
@@ -75,6 +79,10 @@ public:
     b.cos_incidence = 0.5;
     const double sa = noise.sigmaMm (a), sb = noise.sigmaMm (b);
     angle_dependent_ = std::isfinite (sa) && std::isfinite (sb) && sa != sb;
+    polynomial_only_ = noise.isPolynomialOnly (polynomial_);
+    // The ring of normal averaging: the centre and its six hexagonal neighbours at `radius`.
+    for (int k = 1; k < 7; ++k)
+      kernels::hexNeighbourOffset (k - 1, params.radius, ring_du_[k], ring_dv_[k]);
     const int n = kernels::pixelDiscSize (params.radius);
     du_.resize (n);
     dv_.resize (n);
@@ -147,10 +155,7 @@ public:
     // Ring for normal averaging: the centre and its six hexagonal neighbours at `radius`.
     for (int k = 0; k < 7; ++k)
     {
-      int du = 0, dv = 0;
-      if (k > 0)
-        kernels::hexNeighbourOffset (k - 1, params_.radius, du, dv);
-      const int u = cu + du, v = cv + dv;
+      const int u = cu + ring_du_[k], v = cv + ring_dv_[k];
       nb.ring_valid[k] = false;
       nb.ring[k] = {0, 0, 0};
       nb.ring_sigma[k] = 0;
@@ -220,6 +225,12 @@ private:
   double
   modelSigma (int u, int v, double z) const
   {
+    if (polynomial_only_) // the same bits without the noise terms' virtual calls
+    {
+      const double r = radius_px_ ? radius_px_[static_cast<std::size_t> (v) * cloud_.width + u]
+                                  : camera_.principalPointDistance (u, v);
+      return kernels::polynomialSigmaMm (polynomial_, r, z * 1000.0, noise_.minSigmaMm ()) * 1e-3;
+    }
     return depthSigmaMetres (noise_, camera_, u, v, z, context_);
   }
 
@@ -300,8 +311,12 @@ private:
   const CameraModel &camera_;
   const NoiseModel &noise_;
   const double *sigma_m_;
+  const double *radius_px_; // per-pixel distance from the principal point, or null
   PixelContext context_;
   bool angle_dependent_ = false;
+  bool polynomial_only_ = false;         // the noise model is the paper's polynomial alone
+  kernels::PolynomialCoefficients polynomial_ = {};
+  int ring_du_[7] = {0, 0, 0, 0, 0, 0, 0}, ring_dv_[7] = {0, 0, 0, 0, 0, 0, 0};
   kernels::TexletSettings<double> settings_;
   std::vector<int> du_, dv_;
   std::vector<std::ptrdiff_t> offset_; // dv * width + du of each disc pixel
@@ -469,24 +484,79 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
   const bool need_sigma = params_.uncertainty != texlet::UncertaintyMethod::None;
   if (need_sigma)
     sigma_image_.resize (cloud.size ());
+  texlet::kernels::PolynomialCoefficients polynomial = {};
+  const bool polynomial_only = noise_.isPolynomialOnly (polynomial);
+  const double min_sigma_mm = noise_.minSigmaMm ();
+  // The paper's model needs each pixel's distance from the principal point: a virtual call and
+  // a hypot per pixel, the same for every frame of one camera, so kept. The five probes catch
+  // a camera object changed in place.
+  bool fill_radius = false;
+  if (polynomial_only && need_sigma)
+  {
+    const double probe[5] = {camera->principalPointDistance (0, 0), camera->principalPointDistance (w - 1, 0),
+                             camera->principalPointDistance (0, h - 1), camera->principalPointDistance (w - 1, h - 1),
+                             camera->principalPointDistance (w / 2, h / 2)};
+    // A pinhole's distances are hypot (u - cx, v - cy): the same principal point gives the same
+    // image, also for a camera estimated anew from each frame.
+    const auto *pinhole = dynamic_cast<const texlet::PinholeModel *> (camera.get ());
+    const auto *kept = dynamic_cast<const texlet::PinholeModel *> (radius_camera_.get ());
+    const bool same_camera = camera == radius_camera_ ||
+                             (pinhole && kept && typeid (*pinhole) == typeid (texlet::PinholeModel) &&
+                              typeid (*kept) == typeid (texlet::PinholeModel) && pinhole->cx () == kept->cx () &&
+                              pinhole->cy () == kept->cy ());
+    fill_radius = !same_camera || radius_width_ != cloud.width || radius_height_ != cloud.height ||
+                  !std::equal (probe, probe + 5, radius_probe_);
+    if (fill_radius)
+    {
+      radius_image_.resize (cloud.size ());
+      radius_camera_ = camera;
+      radius_width_ = cloud.width;
+      radius_height_ = cloud.height;
+      std::copy (probe, probe + 5, radius_probe_);
+    }
+  }
   const auto n = static_cast<std::ptrdiff_t> (indices_->size ());
   std::size_t made = 0;
 #pragma omp parallel num_threads(threads) reduction(+ : made)
   {
-    if (need_sigma)
+    if (fill_radius)
     {
 #pragma omp for schedule(static)
       for (int v = 0; v < h; ++v)
         for (int u = 0; u < w; ++u)
+          radius_image_[static_cast<std::size_t> (v) * w + u] = camera->principalPointDistance (u, v);
+    }
+    if (need_sigma)
+    {
+#pragma omp for schedule(static)
+      for (int v = 0; v < h; ++v)
+      {
+        double *const row = sigma_image_.data () + static_cast<std::size_t> (v) * w;
+        if (polynomial_only)
+          // The paper's model (the default): the same bits as NoiseModel::sigmaMm without its
+          // virtual calls, which were 20 % of an analytic frame's instructions.
         {
-          const PointInT &p = cloud (u, v);
-          sigma_image_[static_cast<std::size_t> (v) * w + u] =
-              texlet::isValidDepthPoint (p) ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z, noise_context_)
-                                            : std::numeric_limits<double>::quiet_NaN ();
+          const double *const radius = radius_image_.data () + static_cast<std::size_t> (v) * w;
+          const PointInT *const points = &cloud (0, v);
+          for (int u = 0; u < w; ++u)
+            row[u] = texlet::isValidDepthPoint (points[u])
+                         ? texlet::kernels::polynomialSigmaMm (polynomial, radius[u], points[u].z * 1000.0,
+                                                               min_sigma_mm) * 1e-3
+                         : std::numeric_limits<double>::quiet_NaN ();
         }
+        else
+          for (int u = 0; u < w; ++u)
+          {
+            const PointInT &p = cloud (u, v);
+            row[u] = texlet::isValidDepthPoint (p)
+                         ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z, noise_context_)
+                         : std::numeric_limits<double>::quiet_NaN ();
+          }
+      }
     }
     texlet::detail::TexletWorker<PointInT> worker (cloud, params_, *camera, noise_,
-                                                   need_sigma ? sigma_image_.data () : nullptr, &noise_context_);
+                                                   need_sigma ? sigma_image_.data () : nullptr, &noise_context_,
+                                                   polynomial_only && need_sigma ? radius_image_.data () : nullptr);
 #pragma omp for schedule(dynamic, 64)
     for (std::ptrdiff_t i = 0; i < n; ++i)
       made += worker.compute ((*indices_)[i], output[i]) ? 1 : 0;

@@ -8,6 +8,8 @@
 
 #include <pcl_texlet/kernels/config.h>
 
+#include <cmath>
+
 namespace pcl
 {
 namespace texlet
@@ -33,6 +35,20 @@ PCL_TEXLET_HD double
 evaluatePolynomial (const PolynomialCoefficients &c, double r_px, double d_mm)
 {
   return c.p00 + c.p10 * r_px + c.p01 * d_mm + c.p20 * r_px * r_px + c.p11 * r_px * d_mm + c.p02 * d_mm * d_mm;
+}
+
+/** \brief The depth SD in mm of a model made of the polynomial alone, with the operations of
+  * NoiseModel::moments () for it (variance max (f, 0)^2, its root, never below \a floor_mm),
+  * so the same bits without a virtual call. NaN unless \a d_mm is positive and finite.
+  */
+PCL_TEXLET_HD double
+polynomialSigmaMm (const PolynomialCoefficients &c, double r_px, double d_mm, double floor_mm)
+{
+  if (!(d_mm > 0.0) || !std::isfinite (d_mm))
+    return NAN;
+  const double f = evaluatePolynomial (c, r_px, d_mm);
+  const double s = std::sqrt (f > 0.0 ? f * f : 0.0);
+  return s > floor_mm ? s : floor_mm;
 }
 
 } // namespace kernels

@@ -27,6 +27,49 @@ namespace texlet
 namespace kernels
 {
 
+#if defined(PCL_TEXLET_AVX2_KERNELS)
+/** \brief The ten rounds of Philox4x32-10 with key (seed, 0x7e41e7) (that of philoxWords())
+  * on four counters at once, one per 64-bit lane: word i of counter j is in the low 32 bits of
+  * lane j of ci. _mm256_mul_epu32 multiplies the low 32 bits of each lane into a full 64-bit
+  * product, so no word is ever packed or unpacked between rounds (what the auto-vectoriser
+  * spends most of its instructions on). The high halves of the lanes may hold garbage: only
+  * the multiplies and philoxStore4() read a lane, and both take its low 32 bits.
+  */
+inline void
+philoxRounds4 (std::uint32_t seed, __m256i &c0, __m256i &c1, __m256i &c2, __m256i &c3)
+{
+  const __m256i vm0 = _mm256_set1_epi64x (0xD2511F53LL), vm1 = _mm256_set1_epi64x (0xCD9E8D57LL);
+  std::uint32_t k0 = seed, k1 = 0x7e41e7u;
+  for (int round = 0; round < 10; ++round)
+  {
+    const __m256i p0 = _mm256_mul_epu32 (c0, vm0), p1 = _mm256_mul_epu32 (c2, vm1);
+    c0 = _mm256_xor_si256 (_mm256_srli_epi64 (p1, 32), _mm256_xor_si256 (c1, _mm256_set1_epi32 (static_cast<int> (k0))));
+    c1 = p1;
+    c2 = _mm256_xor_si256 (_mm256_srli_epi64 (p0, 32), _mm256_xor_si256 (c3, _mm256_set1_epi32 (static_cast<int> (k1))));
+    c3 = p0;
+    k0 += 0x9E3779B9u;
+    k1 += 0xBB67AE85u;
+  }
+}
+
+/** \brief Stores the low words of the four lanes of each of c0..c3 (philoxRounds4()) at
+  * w0[0..3] .. w3[0..3].
+  */
+inline void
+philoxStore4 (__m256i c0, __m256i c1, __m256i c2, __m256i c3, std::uint32_t *w0, std::uint32_t *w1,
+              std::uint32_t *w2, std::uint32_t *w3)
+{
+  const __m256i low_words = _mm256_setr_epi32 (0, 2, 4, 6, 0, 2, 4, 6);
+  const auto store = [&low_words] (__m256i c, std::uint32_t *w) {
+    _mm_storeu_si128 (reinterpret_cast<__m128i *> (w), _mm256_castsi256_si128 (_mm256_permutevar8x32_epi32 (c, low_words)));
+  };
+  store (c0, w0);
+  store (c1, w1);
+  store (c2, w2);
+  store (c3, w3);
+}
+#endif
+
 /** \brief Philox4x32-10 words of blocks first .. first+n-1 for (seed, texlet, counter, stream):
   * the words of block first+b are w0[b] .. w3[b], equal to
   * philoxWords (seed, texlet, counter, first + b, stream).
@@ -38,42 +81,17 @@ philoxBlocks (std::uint32_t seed, std::uint32_t texlet, std::uint32_t counter, R
   const std::uint64_t m0 = 0xD2511F53u, m1 = 0xCD9E8D57u;
   int b = 0;
 #if defined(PCL_TEXLET_AVX2_KERNELS)
-  // Four blocks at a time, one per 64-bit lane: _mm256_mul_epu32 multiplies the low 32 bits
-  // of each lane into a full 64-bit product, so no word is ever packed or unpacked between
-  // rounds (what the auto-vectoriser spends most of its instructions on). The high halves of
-  // the lanes may hold garbage: only the multiplies and the final extraction read a lane, and
-  // both take its low 32 bits.
   {
-    const __m256i vm0 = _mm256_set1_epi64x (static_cast<long long> (m0));
-    const __m256i vm1 = _mm256_set1_epi64x (static_cast<long long> (m1));
-    const __m256i low_words = _mm256_setr_epi32 (0, 2, 4, 6, 0, 2, 4, 6);
     const __m256i v_c0 = _mm256_set1_epi32 (static_cast<int> (texlet));
     const __m256i v_c1 = _mm256_set1_epi32 (static_cast<int> (counter));
     const __m256i v_c3 = _mm256_set1_epi32 (static_cast<int> (stream));
-    const __m256i step = _mm256_setr_epi64x (0, 1, 2, 3);
     for (; b + 4 <= n; b += 4)
     {
       __m256i c0 = v_c0, c1 = v_c1, c3 = v_c3;
-      __m256i c2 = _mm256_add_epi64 (_mm256_set1_epi64x (static_cast<long long> (static_cast<std::uint32_t> (first + b))), step);
-      std::uint32_t k0 = seed, k1 = 0x7e41e7u; // the key of philoxWords()
-      for (int round = 0; round < 10; ++round)
-      {
-        const __m256i p0 = _mm256_mul_epu32 (c0, vm0), p1 = _mm256_mul_epu32 (c2, vm1);
-        c0 = _mm256_xor_si256 (_mm256_srli_epi64 (p1, 32), _mm256_xor_si256 (c1, _mm256_set1_epi32 (static_cast<int> (k0))));
-        c1 = p1;
-        c2 = _mm256_xor_si256 (_mm256_srli_epi64 (p0, 32), _mm256_xor_si256 (c3, _mm256_set1_epi32 (static_cast<int> (k1))));
-        c3 = p0;
-        k0 += 0x9E3779B9u;
-        k1 += 0xBB67AE85u;
-      }
-      const auto store = [&] (__m256i c, std::uint32_t *w) {
-        _mm_storeu_si128 (reinterpret_cast<__m128i *> (w + b),
-                          _mm256_castsi256_si128 (_mm256_permutevar8x32_epi32 (c, low_words)));
-      };
-      store (c0, w0);
-      store (c1, w1);
-      store (c2, w2);
-      store (c3, w3);
+      __m256i c2 = _mm256_add_epi64 (_mm256_set1_epi64x (static_cast<long long> (static_cast<std::uint32_t> (first + b))),
+                                     _mm256_setr_epi64x (0, 1, 2, 3));
+      philoxRounds4 (seed, c0, c1, c2, c3);
+      philoxStore4 (c0, c1, c2, c3, w0 + b, w1 + b, w2 + b, w3 + b);
     }
   }
 #endif
@@ -113,36 +131,15 @@ philoxCounters (std::uint32_t seed, std::uint32_t texlet, std::uint32_t block, R
   int i = 0;
 #if defined(PCL_TEXLET_AVX2_KERNELS)
   // As in philoxBlocks(): four counters at a time, one per 64-bit lane.
+  for (; i + 4 <= n; i += 4)
   {
-    const __m256i vm0 = _mm256_set1_epi64x (0xD2511F53LL), vm1 = _mm256_set1_epi64x (0xCD9E8D57LL);
-    const __m256i low_words = _mm256_setr_epi32 (0, 2, 4, 6, 0, 2, 4, 6);
-    const __m256i step = _mm256_setr_epi64x (0, 1, 2, 3);
-    for (; i + 4 <= n; i += 4)
-    {
-      __m256i c0 = _mm256_set1_epi32 (static_cast<int> (texlet));
-      __m256i c1 = _mm256_add_epi64 (_mm256_set1_epi64x (static_cast<long long> (static_cast<std::uint32_t> (first + i))), step);
-      __m256i c2 = _mm256_set1_epi32 (static_cast<int> (block));
-      __m256i c3 = _mm256_set1_epi32 (static_cast<int> (stream));
-      std::uint32_t k0 = seed, k1 = 0x7e41e7u; // the key of philoxWords()
-      for (int round = 0; round < 10; ++round)
-      {
-        const __m256i p0 = _mm256_mul_epu32 (c0, vm0), p1 = _mm256_mul_epu32 (c2, vm1);
-        c0 = _mm256_xor_si256 (_mm256_srli_epi64 (p1, 32), _mm256_xor_si256 (c1, _mm256_set1_epi32 (static_cast<int> (k0))));
-        c1 = p1;
-        c2 = _mm256_xor_si256 (_mm256_srli_epi64 (p0, 32), _mm256_xor_si256 (c3, _mm256_set1_epi32 (static_cast<int> (k1))));
-        c3 = p0;
-        k0 += 0x9E3779B9u;
-        k1 += 0xBB67AE85u;
-      }
-      const auto store = [&] (__m256i c, std::uint32_t *w) {
-        _mm_storeu_si128 (reinterpret_cast<__m128i *> (w + i),
-                          _mm256_castsi256_si128 (_mm256_permutevar8x32_epi32 (c, low_words)));
-      };
-      store (c0, w0);
-      store (c1, w1);
-      store (c2, w2);
-      store (c3, w3);
-    }
+    __m256i c0 = _mm256_set1_epi32 (static_cast<int> (texlet));
+    __m256i c1 = _mm256_add_epi64 (_mm256_set1_epi64x (static_cast<long long> (static_cast<std::uint32_t> (first + i))),
+                                   _mm256_setr_epi64x (0, 1, 2, 3));
+    __m256i c2 = _mm256_set1_epi32 (static_cast<int> (block));
+    __m256i c3 = _mm256_set1_epi32 (static_cast<int> (stream));
+    philoxRounds4 (seed, c0, c1, c2, c3);
+    philoxStore4 (c0, c1, c2, c3, w0 + i, w1 + i, w2 + i, w3 + i);
   }
 #endif
   for (; i < n; ++i)
