@@ -10,6 +10,7 @@
 
 #include <vtkObjectFactory.h>
 #include <vtkPNGWriter.h>
+#include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
@@ -149,13 +150,17 @@ TexletViewer::TexletViewer (FrameSource::Ptr source, const pcl::texlet::TexletPa
 {
   int argc = 0;
   char **argv = nullptr;
+  // PCLVisualizer keeps its own reference to the style (a vtkSmartPointer member); New()'s
+  // reference is released here, else the style and everything it holds outlive the viewer
+  // (LeakSanitizer found this).
+  vtkSmartPointer<pcl::visualization::PCLVisualizerInteractorStyle> style;
   if (interactive)
-    vis_ = std::make_unique<pcl::visualization::PCLVisualizer> (argc, argv, kName, ViewerInteractorStyle::New (), true);
+    style = vtkSmartPointer<ViewerInteractorStyle>::New ();
   else
-    // Rendering goes to the X server given by DISPLAY; under Xvfb that is off screen.
-    vis_ = std::make_unique<pcl::visualization::PCLVisualizer> (argc, argv, kName,
-                                                                pcl::visualization::PCLVisualizerInteractorStyle::New (),
-                                                                false);
+    style = vtkSmartPointer<pcl::visualization::PCLVisualizerInteractorStyle>::New ();
+  // Off screen (not interactive), rendering goes to the X server given by DISPLAY; under Xvfb
+  // that is off screen.
+  vis_ = std::make_unique<pcl::visualization::PCLVisualizer> (argc, argv, kName, style.Get (), interactive);
   vis_->setSize (width, height);
   vis_->setBackgroundColor (0, 0, 0);
   vis_->addText ("", 10, height - 24, 14, 1, 1, 1, "status"); // top left: PCL's FPS counter is bottom left
@@ -295,8 +300,16 @@ TexletViewer::draw ()
     shown->sensor_origin_.setZero ();
     shown->sensor_orientation_.setIdentity ();
     pcl::visualization::PointCloudColorHandlerRGBField<pcl::PointXYZRGBA> colour (shown);
-    if (!vis_->updatePointCloud<pcl::PointXYZRGBA> (shown, colour, "cloud"))
-      vis_->addPointCloud<pcl::PointXYZRGBA> (shown, colour, "cloud");
+    // A new cloud actor per frame, not PCLVisualizer::updatePointCloud: PCL 1.13's casts the
+    // actor's vtkDataSetMapper to a vtkPolyDataMapper (pcl_visualizer.hpp:1597), undefined
+    // behaviour that UBSan reports. Both convert the whole cloud; the point size the user chose
+    // with PCL's +/- keys is carried over.
+    double point_size = 1.0;
+    if (vtkActor *old = cloudActor ())
+      point_size = old->GetProperty ()->GetPointSize ();
+    vis_->removePointCloud ("cloud");
+    vis_->addPointCloud<pcl::PointXYZRGBA> (shown, colour, "cloud");
+    vis_->setPointCloudRenderingProperties (pcl::visualization::PCL_VISUALIZER_POINT_SIZE, point_size, "cloud");
     showCloud ();
   }
   setActor ("texlets", makeDiscActor (*texlets_, scales_), layers_.texlets);
