@@ -29,7 +29,9 @@
 #include <vtkWindowToImageFilter.h>
 #include <vtkImageData.h>
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -64,6 +66,15 @@ public:
     if (pid_ == 0)
     {
       ::close (fds[0]);
+      // If this process dies without TearDown (a sanitizer abort), the server must not outlive
+      // it: it would hold CTest's output pipe open and the test would hang until its timeout.
+      ::prctl (PR_SET_PDEATHSIG, SIGTERM);
+      const int null = ::open ("/dev/null", O_WRONLY);
+      if (null >= 0)
+      {
+        ::dup2 (null, STDOUT_FILENO);
+        ::dup2 (null, STDERR_FILENO);
+      }
       const std::string fd = std::to_string (fds[1]);
       ::execl (XVFB, XVFB, "-displayfd", fd.c_str (), "-screen", "0", "1280x1024x24", "-nolisten", "tcp",
                static_cast<char *> (nullptr));
