@@ -24,12 +24,17 @@ t1=$(date +%s)
 # Leaks in third-party libraries (see test/sanitizer/lsan.supp for each and why) are suppressed;
 # everything else, including every UBSan finding, aborts the process with a non-zero exit.
 supp_dir=$(pwd)/test/sanitizer
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=0:check_initialization_order=1}
+# verify_asan_link_order=0: keep_modules_loaded comes before the ASan runtime (LD_PRELOAD below).
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=0:check_initialization_order=1:verify_asan_link_order=0}
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$supp_dir/lsan.supp:print_suppressions=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+# OpenMP threads sleep instead of spinning while they wait: two test processes share the cores.
+export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-PASSIVE}
 cd build-asan
 status=0
-ctest --output-on-failure -j "$jobs" || status=$?
+# Shared objects stay mapped until exit, so that LeakSanitizer can name the library of every leak
+# (test/sanitizer/keep_modules_loaded.c).
+LD_PRELOAD=$(pwd)/test/sanitizer/libkeep_modules_loaded.so ctest --output-on-failure -j "$jobs" || status=$?
 t2=$(date +%s)
 echo "run_sanitizer_tests: build $((t1 - t0)) s, ctest $((t2 - t1)) s (jobs=$jobs), status $status"
 exit $status
