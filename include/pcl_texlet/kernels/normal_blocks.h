@@ -285,15 +285,14 @@ storeNormalQuad (__m128 v, double *g)
 }
 #endif
 
-/** \brief Normals g[4 b + i] = normalQuad (seed, texlet, sample, first + b)[i] (to float
-  * rounding) for blocks first .. first+n-1. \a words is scratch of 4 n words.
+/** \brief Box-Muller normals of \a n Philox blocks whose words are w0[b] .. w3[b]:
+  * g[4 b + 0..3] = boxMullerFloat (w0[b], w1[b]), boxMullerFloat (w2[b], w3[b]). The AVX2 path
+  * gives the bits of the scalar one.
   */
 template <typename G> PCL_TEXLET_HD void
-normalBlocks (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, int first, int n, std::uint32_t *words,
-              G *g)
+boxMullerWords (const std::uint32_t *w0, const std::uint32_t *w1, const std::uint32_t *w2, const std::uint32_t *w3,
+                int n, G *g)
 {
-  std::uint32_t *w0 = words, *w1 = words + n, *w2 = words + 2 * n, *w3 = words + 3 * n;
-  philoxBlocks (seed, texlet, sample, RandomStream::MonteCarlo, first, n, w0, w1, w2, w3);
   int b = 0;
 #if defined(PCL_TEXLET_AVX2_KERNELS)
   for (; b + 8 <= n; b += 8)
@@ -330,6 +329,31 @@ normalBlocks (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, in
     g[4 * b + 2] = x1;
     g[4 * b + 3] = y1;
   }
+}
+
+/** \brief Normals g[4 b + i] = normalQuad (seed, texlet, sample, first + b)[i] (to float
+  * rounding) for blocks first .. first+n-1. \a words is scratch of 4 n words.
+  */
+template <typename G> PCL_TEXLET_HD void
+normalBlocks (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, int first, int n, std::uint32_t *words,
+              G *g)
+{
+  std::uint32_t *w0 = words, *w1 = words + n, *w2 = words + 2 * n, *w3 = words + 3 * n;
+  philoxBlocks (seed, texlet, sample, RandomStream::MonteCarlo, first, n, w0, w1, w2, w3);
+  boxMullerWords (w0, w1, w2, w3, n, g);
+}
+
+/** \brief Normals g[4 i + j] = normalQuad (seed, texlet, first + i, block)[j] (to float
+  * rounding) for samples first .. first+n-1 of one block: normalBlocks() across samples
+  * instead of blocks. \a words is scratch of 4 n words.
+  */
+template <typename G> PCL_TEXLET_HD void
+normalSamples (std::uint32_t seed, std::uint32_t texlet, std::uint32_t block, int first, int n, std::uint32_t *words,
+               G *g)
+{
+  std::uint32_t *w0 = words, *w1 = words + n, *w2 = words + 2 * n, *w3 = words + 3 * n;
+  philoxCounters (seed, texlet, block, RandomStream::MonteCarlo, first, n, w0, w1, w2, w3);
+  boxMullerWords (w0, w1, w2, w3, n, g);
 }
 
 } // namespace kernels
