@@ -301,18 +301,18 @@ TEST (PcaSampler, FactorsReproduceTheModelCovariancesOfThePoints)
 TEST (PcaSampler, BatchedDrawsAreTheOneAtATimeDraws)
 {
   std::uint32_t words[4 * 40];
-  double g[4][4 * 40];
+  double g[16][40];
   for (std::uint32_t texlet : {0u, 77u, 307199u})
   {
     for (int b = 0; b < 4; ++b)
-      normalSamples (5u, texlet, static_cast<std::uint32_t> (b), 3, 40, words, g[b]);
+      normalSamples (5u, texlet, static_cast<std::uint32_t> (b), 3, 40, words, g[4 * b], g[4 * b + 1], g[4 * b + 2],
+                     g[4 * b + 3]);
     for (int i = 0; i < 40; ++i)
     {
       double z[kPcaSampleNormals];
       pcaSampleNormals (5u, texlet, static_cast<std::uint32_t> (3 + i), z);
-      for (int b = 0; b < 4; ++b)
-        for (int j = 0; j < 4; ++j)
-          ASSERT_EQ (z[4 * b + j], g[b][4 * i + j]) << "texlet " << texlet << " sample " << 3 + i;
+      for (int j = 0; j < kPcaSampleNormals; ++j)
+        ASSERT_EQ (z[j], g[j][i]) << "texlet " << texlet << " sample " << 3 + i;
     }
   }
 }

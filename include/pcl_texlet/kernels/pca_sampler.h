@@ -166,7 +166,7 @@ preparePcaSampleModel (const PcaModelSums<S> &sums, int n, const PlaneFit<S> &fi
 }
 
 /** \brief The kPcaSampleNormals normals of sample \a sample, one at a time (the GPU's way):
-  * the bits of normalSamples() for blocks 0..3 at z[4 block + i].
+  * the bits of normalSamples() for blocks 0..3 at z[4 block + i] (z[15] is not used).
   */
 template <typename S> PCL_TEXLET_HD void
 pcaSampleNormals (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, S z[kPcaSampleNormals])
@@ -185,12 +185,13 @@ pcaSampleNormals (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample
 }
 
 /** \brief The moments of one sample from its normals \a z: the mean offset \a m from P0 and
-  * the (1/n) covariance \a c (packed), both in the model's basis.
+  * the (1/n) covariance \a c (packed), both in the model's basis. \a V is S or a SIMD lane
+  * type holding several samples, one a lane: the same arithmetic.
   */
-template <typename S> PCL_TEXLET_HD void
-pcaSampleMoments (const PcaSampleModel<S> &md, const S z[kPcaSampleNormals], S m[3], S c[6])
+template <typename S, typename V> PCL_TEXLET_HD void
+pcaSampleMoments (const PcaSampleModel<S> &md, const V *z, V m[3], V c[6])
 {
-  S y[9], u[6];
+  V y[9], u[6];
   md.lin.apply (z, y);
   md.quad.apply (z + 9, u);
   for (int i = 0; i < 3; ++i)
@@ -200,17 +201,16 @@ pcaSampleMoments (const PcaSampleModel<S> &md, const S z[kPcaSampleNormals], S m
       c[k] = (md.base[k] + y[3 + k] + u[k]) - m[i] * m[j];
 }
 
-/** \brief One sample: its moments and the re-fit as fitPlanePca() does it (no plane for
-  * (nearly) collinear points: eigenvalue 1 not above collinearityLimit() times eigenvalue 2).
+/** \brief The re-fit of one sample from its moments (pcaSampleMoments()), as fitPlanePca()
+  * does it: no plane for (nearly) collinear points (eigenvalue 1 not above collinearityLimit()
+  * times eigenvalue 2).
   * \param dP the sample's centre minus P0 (world frame)
   * \param a1,a2 the sample's normal, turned toward the model's n0, along t1 and t2
   * \return false when the sample has no plane
   */
 template <typename S> PCL_TEXLET_HD bool
-pcaSampleRefit (const PcaSampleModel<S> &md, const S z[kPcaSampleNormals], Vec3<S> &dP, S &a1, S &a2)
+pcaSampleRefitMoments (const PcaSampleModel<S> &md, const S m[3], const S c[6], Vec3<S> &dP, S &a1, S &a2)
 {
-  S m[3], c[6];
-  pcaSampleMoments (md, z, m, c);
   SmallestEigen3<S> eig;
   if (!smallestEigen3NearFirstAxis (c, eig))
   {
@@ -231,6 +231,15 @@ pcaSampleRefit (const PcaSampleModel<S> &md, const S z[kPcaSampleNormals], Vec3<
   a2 = dot (v, md.t2);
   dP = m[0] * md.axes[0] + m[1] * md.axes[1] + m[2] * md.axes[2];
   return true;
+}
+
+/** \brief One sample from its normals \a z (pcaSampleNormals()): moments and re-fit. */
+template <typename S> PCL_TEXLET_HD bool
+pcaSampleRefit (const PcaSampleModel<S> &md, const S z[kPcaSampleNormals], Vec3<S> &dP, S &a1, S &a2)
+{
+  S m[3], c[6];
+  pcaSampleMoments (md, z, m, c);
+  return pcaSampleRefitMoments (md, m, c, dP, a1, a2);
 }
 
 } // namespace kernels

@@ -248,16 +248,8 @@ smallestEigen3NearFirstAxis (const S b[6], SmallestEigen3<S> &out)
   }
   if (!converged)
     return false;
-  {
-    // (x, y) of the converged l, and the interlacing test at it.
-    const S a11 = b[3] - l, a22 = b[5] - l, a12 = b[4];
-    const S det = a11 * a22 - a12 * a12;
-    if (!(a11 > S (0)) || !(det > S (0)))
-      return false;
-    const S inv = S (1) / det;
-    x = (a12 * b[2] - a22 * b[1]) * inv;
-    y = (a12 * b[1] - a11 * b[2]) * inv;
-  }
+  // (x, y) are those of the last step's l, within tol of the converged one: they differ from
+  // the converged l's by about tol |(x, y)| / gap, far below rounding.
   const S inv_norm = S (1) / std::sqrt (S (1) + x * x + y * y);
   out.vector = make3 (inv_norm, x * inv_norm, y * inv_norm);
   // l1 + l2 = trace - l0, l1 l2 = (sum of principal 2x2 minors) - l0 (l1 + l2).

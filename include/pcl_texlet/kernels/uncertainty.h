@@ -375,31 +375,51 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
 
   SampleCovariance<S> acc;
   acc.reset ();
-  S z[kPcaSampleNormals];
   Vec3<S> dP;
   S a1, a2;
 #if !defined(__CUDACC__)
   constexpr int chunk = 32; // samples whose normals are drawn at once
   std::uint32_t words[4 * chunk];
-  S g[4][4 * chunk];
+  S zs[kPcaSampleNormals][chunk]; // normal j of sample first + i at zs[j][i]
   for (int first = 0; first < samples; first += chunk)
   {
     const int ns = samples - first < chunk ? samples - first : chunk;
     const int ndraw = (ns + 7) / 8 * 8; // whole 8-wide SIMD steps; the spare draws go unused
     for (int b = 0; b < 4; ++b)
-      normalSamples (seed, texlet, static_cast<std::uint32_t> (b), first, ndraw, words, g[b]);
+      normalSamples (seed, texlet, static_cast<std::uint32_t> (b), first, ndraw, words, zs[4 * b], zs[4 * b + 1],
+                     zs[4 * b + 2], zs[4 * b + 3]);
+#if defined(__GNUC__)
+    // Moments of four samples at a time, one a lane; the re-fits one by one.
+    typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+    for (int i = 0; i < ns; i += 4)
+    {
+      Lane zl[kPcaSampleNormals - 1], ml[3], cl[6];
+      for (int j = 0; j < kPcaSampleNormals - 1; ++j)
+        std::memcpy (&zl[j], zs[j] + i, sizeof (Lane));
+      pcaSampleMoments (md, zl, ml, cl);
+      for (int l = 0; l < 4 && i + l < ns; ++l)
+      {
+        const S m[3] = {ml[0][l], ml[1][l], ml[2][l]};
+        const S c[6] = {cl[0][l], cl[1][l], cl[2][l], cl[3][l], cl[4][l], cl[5][l]};
+        if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
+          acc.add (dP, a1, a2);
+      }
+    }
+#else
     for (int i = 0; i < ns; ++i)
     {
-      for (int b = 0; b < 4; ++b)
-        for (int j = 0; j < 4; ++j)
-          z[4 * b + j] = g[b][4 * i + j];
+      S z[kPcaSampleNormals];
+      for (int j = 0; j < kPcaSampleNormals; ++j)
+        z[j] = zs[j][i];
       if (pcaSampleRefit (md, z, dP, a1, a2))
         acc.add (dP, a1, a2);
     }
+#endif
   }
 #else
   for (int s = 0; s < samples; ++s)
   {
+    S z[kPcaSampleNormals];
     pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
     if (pcaSampleRefit (md, z, dP, a1, a2))
       acc.add (dP, a1, a2);
