@@ -66,19 +66,26 @@ addPcaModelTerms (V *v, const V *q, const V *a)
 {
   V w[9], A[6];
   w[0] = a[0]; w[1] = a[1]; w[2] = a[2];
+  PCL_TEXLET_UNROLL_LOOP
   for (int i = 0, k = 0; i < 3; ++i)
+    PCL_TEXLET_UNROLL_LOOP
     for (int j = i; j < 3; ++j, ++k)
     {
       w[3 + k] = q[i] * a[j] + a[i] * q[j];
       A[k] = a[i] * a[j];
       v[3 + k] += q[i] * q[j];
     }
+  PCL_TEXLET_UNROLL_LOOP
   for (int i = 0; i < 3; ++i)
     v[i] += q[i];
+  PCL_TEXLET_UNROLL_LOOP
   for (int i = 0, k = 9; i < 9; ++i)
+    PCL_TEXLET_UNROLL_LOOP
     for (int j = i; j < 9; ++j, ++k)
       v[k] += w[i] * w[j];
+  PCL_TEXLET_UNROLL_LOOP
   for (int i = 0, k = 54; i < 6; ++i)
+    PCL_TEXLET_UNROLL_LOOP
     for (int j = i; j < 6; ++j, ++k)
       v[k] += A[i] * A[j];
 }

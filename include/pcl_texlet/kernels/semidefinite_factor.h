@@ -12,8 +12,9 @@
 
 #include <pcl_texlet/kernels/sym_eigen3.h>
 
-// Unrolls the fixed-size loops of SemidefiniteFactor::apply(), which runs once per Monte Carlo
-// sample: unrolled, it is one multiply and one add per entry, without loop counters.
+// Unrolls small fixed-size loops (SemidefiniteFactor::apply() runs once per Monte Carlo sample,
+// addPcaModelTerms() once per point): unrolled, they are one multiply and one add per entry,
+// without loop counters, and the operands stay in registers.
 #if defined(__CUDACC__)
 #define PCL_TEXLET_UNROLL_LOOP _Pragma ("unroll")
 #elif defined(__GNUC__) && !defined(__clang__)
@@ -94,6 +95,7 @@ factorSemidefinite (const S *c, SemidefiniteFactor<S, N> &f)
     }
   const S tol = S (N * N) * machineEpsilon<S> ();
   f.rank = 0;
+  PCL_TEXLET_UNROLL_LOOP
   for (int j = 0; j < N; ++j)
   {
     int p = j;
@@ -128,9 +130,12 @@ factorSemidefinite (const S *c, SemidefiniteFactor<S, N> &f)
     }
     const S ljj = std::sqrt (a[j][j]);
     l[j][j] = ljj;
+    PCL_TEXLET_UNROLL_LOOP
     for (int i = j + 1; i < N; ++i)
       l[i][j] = a[i][j] / ljj;
+    PCL_TEXLET_UNROLL_LOOP
     for (int i = j + 1; i < N; ++i)
+      PCL_TEXLET_UNROLL_LOOP
       for (int k = j + 1; k <= i; ++k)
         a[i][k] = a[k][i] = a[i][k] - l[i][j] * l[k][j];
     f.rank = j + 1;

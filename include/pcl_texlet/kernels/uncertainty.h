@@ -332,6 +332,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     for (int k = 0; k < nb.count; k += 4)
     {
       S bx[4], by[4], bz[4], bs[4], bu[4];
+      PCL_TEXLET_UNROLL_LOOP
       for (int i = 0; i < 4; ++i)
       {
         const bool in = k + i < nb.count;
@@ -394,6 +395,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     for (int i = 0; i < ns; i += 4)
     {
       Lane zl[kPcaSampleNormals - 1], ml[3], cl[6];
+      PCL_TEXLET_UNROLL_LOOP
       for (int j = 0; j < kPcaSampleNormals - 1; ++j)
         std::memcpy (&zl[j], zs[j] + i, sizeof (Lane));
       pcaSampleMoments (md, zl, ml, cl);
