@@ -5,7 +5,9 @@
  *
  * Both methods keep the inlier set of the measured data fixed and perturb each inlier's depth
  * along its ray with its own SD. Monte Carlo (paper, Sect. 3.2) re-fits the plane for every
- * sample; the analytic method is the first-order expansion of the same fit: the mean for P,
+ * sample: monteCarloCovariance() draws every inlier's noise (the reference definition, used
+ * for SVD and averaging); monteCarloPcaCovariance() draws the PCA fit's moments from a
+ * statistically equivalent Gaussian model instead (pca_sampler.h); the analytic method is the first-order expansion of the same fit: the mean for P,
  * the eigenvector perturbation  de0 = -sum_j e_j (e_j' dC e0) / (l_j - l0)  for PCA and SVD,
  * and central differences of Eq. 5 for averaging.
  */
