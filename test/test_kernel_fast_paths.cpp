@@ -1,9 +1,10 @@
 /*
  * The fast paths of the texlet kernels against the straightforward ones they replace: the
  * block-parallel normals against normalQuad (Random123's Box-Muller), the Jacobi re-fit against
- * the closed-form eigen solve, the Monte Carlo PCA covariances against the per-point re-fit of
- * monteCarloCovariance, and the analytic covariances against the textbook loop. Results must
- * agree to floating-point rounding; the draws to a few float ulps.
+ * the closed-form eigen solve, and the analytic covariances against the textbook loop. Results
+ * must agree to floating-point rounding; the draws to a few float ulps. (The Monte Carlo PCA
+ * covariances draw from a different, statistically equivalent sampler since issue 6: they are
+ * compared with the per-point re-fit statistically, in test_pca_sampler.cpp.)
  */
 #include <pcl_texlet/kernels/normal_blocks.h>
 #include <pcl_texlet/kernels/texlet_kernel.h>
@@ -193,48 +194,6 @@ TEST (SymEigen3Near, MatchesTheClosedFormFromANearbyBasis)
   SymEigen3<double> e;
   const Vec3<double> basis[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   EXPECT_FALSE (symmetricEigen3Near (zero, basis, e));
-}
-
-TEST (MonteCarloPca, SameSamplesAsThePerPointRefit)
-{
-  std::mt19937 rng (5);
-  for (int trial = 0; trial < 60; ++trial)
-  {
-    Patch patch (rng, 0.6 + 0.05 * trial, trial % 3 == 0 ? 10 : 0);
-    TexletSettings<double> st;
-    st.threshold = 3 * 1.5e-3 * 4.0;
-    st.fit = PlaneFitMethod::PCA;
-    st.uncertainty = UncertaintyMethod::None;
-    std::vector<unsigned char> mask (patch.nb.count);
-    std::vector<double> work (texletWorkSize (patch.nb.count));
-    TexletResult<double> r;
-    computeTexlet (patch.nb, st, 1000u + trial, mask.data (), work.data (), r);
-    ASSERT_TRUE (r.ok);
-    // The measured fit of the inliers, as computeTexlet makes it.
-    PlaneMoments<double> m;
-    m.reset (patch.nb.point (0));
-    for (int k = 0; k < patch.nb.count; ++k)
-      if (mask[k])
-        m.add (patch.nb.point (k));
-    PlaneFit<double> fit;
-    ASSERT_TRUE (fitPlanePca (m, fit));
-    Vec3<double> N = fit.N, t1, t2;
-    if (dot (N, st.viewpoint - fit.P) < 0)
-      N = -N;
-    tangentFrame (N, t1, t2);
-    const bool ring_use[7] = {true, true, true, true, true, true, true};
-    for (int samples : {2, 50, 300})
-    {
-      double fast_p[6], fast_n[3], ref_p[6], ref_n[3];
-      monteCarloPcaCovariance (patch.nb, mask.data (), fit, samples, 9u, 1000u + trial, N, t1, t2, work.data (),
-                               fast_p, fast_n);
-      monteCarloCovariance (patch.nb, mask.data (), ring_use, PlaneFitMethod::PCA, samples, 9u, 1000u + trial, fit.P,
-                            N, t1, t2, work.data (), ref_p, ref_n);
-      EXPECT_LT (relativeDifference (fast_p, ref_p, 6), 1e-5) << "trial " << trial << " samples " << samples;
-      EXPECT_LT (relativeDifference (fast_n, ref_n, 3), 1e-5) << "trial " << trial << " samples " << samples;
-      EXPECT_GT (ref_n[0], 0.0);
-    }
-  }
 }
 
 TEST (AnalyticCovariance, LaneSumsMatchThePlainLoop)

@@ -81,6 +81,39 @@ TEST (SimdPaths, NormalBlocksAreTheScalarBoxMullerBitForBit)
   EXPECT_GT (compared, 100000);
 }
 
+TEST (SimdPaths, NormalSamplesAreTheScalarBoxMullerBitForBit)
+{
+  // The PCA Monte Carlo's batched draws (across samples) against the per-sample ones the GPU
+  // makes (kernels/pca_sampler.h draws each sample's blocks this way).
+  if (!processorRunsThisBuild ())
+    GTEST_SKIP () << "this processor does not run x86-64-v3 code";
+  std::uint32_t words[4 * 40];
+  double g[4][40];
+  float gf[4][40];
+  long compared = 0;
+  for (std::uint32_t texlet = 0; texlet < 2000; ++texlet)
+  {
+    const int n = 1 + static_cast<int> (texlet % 40);
+    const std::uint32_t block = texlet % 4;
+    normalSamples (11u, texlet, block, 5, n, words, g[0], g[1], g[2], g[3]);
+    normalSamples (11u, texlet, block, 5, n, words, gf[0], gf[1], gf[2], gf[3]);
+    for (int i = 0; i < n; ++i)
+    {
+      const auto w = philoxWords (11u, texlet, static_cast<std::uint32_t> (5 + i), block, RandomStream::MonteCarlo);
+      float ref[4];
+      boxMullerFloat (w.v[0], w.v[1], ref[0], ref[1]);
+      boxMullerFloat (w.v[2], w.v[3], ref[2], ref[3]);
+      for (int j = 0; j < 4; ++j)
+      {
+        ASSERT_EQ (g[j][i], static_cast<double> (ref[j])) << "texlet " << texlet << " sample " << 5 + i;
+        ASSERT_EQ (gf[j][i], ref[j]) << "texlet " << texlet << " sample " << 5 + i;
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT (compared, 100000);
+}
+
 TEST (SimdPaths, BoxMullerOfExtremeWordsIsFiniteAndExact)
 {
   if (!processorRunsThisBuild ())

@@ -8,11 +8,15 @@
  * iteration) and run Monte Carlo samples in parallel (lane = sample), reading the points as
  * shared-memory broadcasts. The cheap sequential steps (moments, fit, analytic propagation)
  * run redundantly on every lane from the same data, so they need no broadcast. The per-
- * hypothesis and per-sample bodies are those of kernels::ransacPlane and
- * kernels::monteCarloCovariance; the pieces are the kernels' own (distinctTriple,
- * philoxWords, normalQuad, PlaneMoments, fitPlanePca, averagingNormal, SampleCovariance).
- * RANSAC picks the first iteration with the most inliers, as the sequential loop does, so
- * the inliers are the CPU's; only the order of the Monte Carlo sums differs (rounding).
+ * hypothesis and per-sample bodies are those of kernels::ransacPlane,
+ * kernels::monteCarloCovariance (averaging) and kernels::monteCarloPcaCovariance (PCA: the
+ * Gaussian moment model of kernels/pca_sampler.h, its sums over the inliers lane-strided and
+ * reduced over the warp); the pieces are the kernels' own (distinctTriple, philoxWords,
+ * normalQuad, PlaneMoments, fitPlanePca, averagingNormal, pcaModelPoint, PcaModelSums,
+ * preparePcaSampleModel, pcaSampleNormals, pcaSampleRefit, SampleCovariance). RANSAC picks the
+ * first iteration with the most inliers, as the sequential loop does, so the inliers are the
+ * CPU's, and the Monte Carlo samples are the CPU's; only the order of the sums differs
+ * (rounding).
  */
 #pragma once
 
@@ -215,48 +219,62 @@ texletWarpKernel (CloudView cloud, FrameTexletContext<S> ctx, kernels::HexGrid g
       }
       else if (st.uncertainty == texlet::UncertaintyMethod::MonteCarlo)
       {
-        // 4. Monte Carlo, lane = sample: monteCarloCovariance's body, sums reduced over the warp.
+        // 4. Monte Carlo, lane = sample, sums reduced over the warp.
         k::SampleCovariance<S> acc;
         acc.reset ();
-        float g[4];
-        for (int s = lane; s < st.samples; s += 32)
+        if (st.fit == texlet::PlaneFitMethod::Averaging)
         {
-          k::Vec3<S> P, Ns;
-          bool sok;
-          if (st.fit == texlet::PlaneFitMethod::Averaging)
+          // monteCarloCovariance's body.
+          float g[4];
+          for (int s = lane; s < st.samples; s += 32)
           {
-            k::Vec3<S> ring[7];
+            k::Vec3<S> ring[7], Ns;
             for (int r = 0; r < 7; ++r)
             {
               if ((r & 3) == 0)
                 k::normalQuad (st.seed, centre, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (r >> 2), g);
               ring[r] = ring_use[r] ? (S (1) + S (g[r & 3]) * nb.ring_sigma[r] / nb.ring[r].z) * nb.ring[r] : nb.ring[r];
             }
-            sok = k::averagingNormal (ring, ring_use, Ns);
-            P = ring[0];
+            if (!k::averagingNormal (ring, ring_use, Ns))
+              continue;
+            if (k::dot (Ns, N) < S (0))
+              Ns = -Ns;
+            acc.add (ring[0] - fit.P, k::dot (Ns, t1), k::dot (Ns, t2));
           }
-          else
+        }
+        else
+        {
+          // monteCarloPcaCovariance's pieces (kernels/pca_sampler.h): the model's sums over the
+          // inliers, lane-strided and reduced over the warp, then the same samples as the CPU
+          // (draws (seed, texlet, sample, block 0..3)), one per lane.
+          const k::Vec3<S> axes[3] = {fit.N, fit.e1, fit.e2};
+          const S P0b[3] = {k::dot (axes[0], fit.P), k::dot (axes[1], fit.P), k::dot (axes[2], fit.P)};
+          k::PcaModelSums<S> sums;
+          sums.reset ();
+          int n_in = 0;
+          for (int q = lane; q < count; q += 32)
           {
-            k::PlaneMoments<S> ms;
-            ms.reset (fit.P);
-            for (int q = 0; q < count; ++q)
-            {
-              if ((q & 3) == 0)
-                k::normalQuad (st.seed, centre, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (q >> 2), g);
-              if (!mask[q])
-                continue;
-              ms.add ((S (1) + S (g[q & 3]) * ss[q] / zs[q]) * nb.point (q));
-            }
-            k::PlaneFit<S> f;
-            sok = k::fitPlanePca (ms, f);
-            P = f.P;
-            Ns = f.N;
+            S qb[3], ab[3];
+            k::pcaModelPoint (nb, mask, q, fit.P, axes, P0b, qb, ab);
+            sums.add (qb, ab);
+            n_in += mask[q] ? 1 : 0;
           }
-          if (!sok)
-            continue;
-          if (k::dot (Ns, N) < S (0))
-            Ns = -Ns;
-          acc.add (P - fit.P, k::dot (Ns, t1), k::dot (Ns, t2));
+          for (int j = 0; j < k::PcaModelSums<S>::kCount; ++j)
+            sums.v[j] = warpSum (sums.v[j]);
+          n_in = warpSum (n_in);
+          if (n_in >= 3)
+          {
+            k::PcaSampleModel<S> md;
+            k::preparePcaSampleModel (sums, n_in, fit, N, t1, t2, md);
+            for (int s = lane; s < st.samples; s += 32)
+            {
+              S z[k::kPcaSampleNormals], a1, a2;
+              k::Vec3<S> dP;
+              k::pcaSampleNormals (st.seed, centre, static_cast<std::uint32_t> (s), z);
+              if (k::pcaSampleRefit (md, z, dP, a1, a2))
+                acc.add (dP, a1, a2);
+            }
+          }
         }
         for (int q = 0; q < 3; ++q)
         {

@@ -285,15 +285,14 @@ storeNormalQuad (__m128 v, double *g)
 }
 #endif
 
-/** \brief Normals g[4 b + i] = normalQuad (seed, texlet, sample, first + b)[i] (to float
-  * rounding) for blocks first .. first+n-1. \a words is scratch of 4 n words.
+/** \brief Box-Muller normals of \a n Philox blocks whose words are w0[b] .. w3[b]:
+  * g[4 b + 0..3] = boxMullerFloat (w0[b], w1[b]), boxMullerFloat (w2[b], w3[b]). The AVX2 path
+  * gives the bits of the scalar one.
   */
 template <typename G> PCL_TEXLET_HD void
-normalBlocks (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, int first, int n, std::uint32_t *words,
-              G *g)
+boxMullerWords (const std::uint32_t *w0, const std::uint32_t *w1, const std::uint32_t *w2, const std::uint32_t *w3,
+                int n, G *g)
 {
-  std::uint32_t *w0 = words, *w1 = words + n, *w2 = words + 2 * n, *w3 = words + 3 * n;
-  philoxBlocks (seed, texlet, sample, RandomStream::MonteCarlo, first, n, w0, w1, w2, w3);
   int b = 0;
 #if defined(PCL_TEXLET_AVX2_KERNELS)
   for (; b + 8 <= n; b += 8)
@@ -330,6 +329,84 @@ normalBlocks (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, in
     g[4 * b + 2] = x1;
     g[4 * b + 3] = y1;
   }
+}
+
+/** \brief Normals g[4 b + i] = normalQuad (seed, texlet, sample, first + b)[i] (to float
+  * rounding) for blocks first .. first+n-1. \a words is scratch of 4 n words.
+  */
+template <typename G> PCL_TEXLET_HD void
+normalBlocks (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, int first, int n, std::uint32_t *words,
+              G *g)
+{
+  std::uint32_t *w0 = words, *w1 = words + n, *w2 = words + 2 * n, *w3 = words + 3 * n;
+  philoxBlocks (seed, texlet, sample, RandomStream::MonteCarlo, first, n, w0, w1, w2, w3);
+  boxMullerWords (w0, w1, w2, w3, n, g);
+}
+
+#if defined(PCL_TEXLET_AVX2_KERNELS)
+/** \brief Stores eight normals at \a g. */
+inline void
+storeNormals8 (__m256 v, float *g)
+{
+  _mm256_storeu_ps (g, v);
+}
+
+inline void
+storeNormals8 (__m256 v, double *g)
+{
+  _mm256_storeu_pd (g, _mm256_cvtps_pd (_mm256_castps256_ps128 (v)));
+  _mm256_storeu_pd (g + 4, _mm256_cvtps_pd (_mm256_extractf128_ps (v, 1)));
+}
+#endif
+
+/** \brief boxMullerWords() with the output split by position in the block (structure of
+  * arrays): g0[b], g1[b] = boxMullerFloat (w0[b], w1[b]) and g2[b], g3[b] =
+  * boxMullerFloat (w2[b], w3[b]), the same bits.
+  */
+template <typename G> PCL_TEXLET_HD void
+boxMullerWordsSoA (const std::uint32_t *w0, const std::uint32_t *w1, const std::uint32_t *w2, const std::uint32_t *w3,
+                   int n, G *g0, G *g1, G *g2, G *g3)
+{
+  int b = 0;
+#if defined(PCL_TEXLET_AVX2_KERNELS)
+  for (; b + 8 <= n; b += 8)
+  {
+    const auto load = [b] (const std::uint32_t *w) {
+      return _mm256_loadu_si256 (reinterpret_cast<const __m256i *> (w + b));
+    };
+    __m256 x0, y0, x1, y1;
+    boxMullerFloat8 (load (w0), load (w1), x0, y0);
+    boxMullerFloat8 (load (w2), load (w3), x1, y1);
+    storeNormals8 (x0, g0 + b);
+    storeNormals8 (y0, g1 + b);
+    storeNormals8 (x1, g2 + b);
+    storeNormals8 (y1, g3 + b);
+  }
+#endif
+  for (; b < n; ++b)
+  {
+    float x0, y0, x1, y1;
+    boxMullerFloat (w0[b], w1[b], x0, y0);
+    boxMullerFloat (w2[b], w3[b], x1, y1);
+    g0[b] = x0;
+    g1[b] = y0;
+    g2[b] = x1;
+    g3[b] = y1;
+  }
+}
+
+/** \brief Normals across samples instead of blocks: g0[i] .. g3[i] = normalQuad (seed, texlet,
+  * first + i, block)[0..3] (to float rounding; the bits of boxMullerFloat()) for samples
+  * first .. first+n-1 of one block, one array per position in the block so that consecutive
+  * samples lie side by side. \a words is scratch of 4 n words.
+  */
+template <typename G> PCL_TEXLET_HD void
+normalSamples (std::uint32_t seed, std::uint32_t texlet, std::uint32_t block, int first, int n, std::uint32_t *words,
+               G *g0, G *g1, G *g2, G *g3)
+{
+  std::uint32_t *w0 = words, *w1 = words + n, *w2 = words + 2 * n, *w3 = words + 3 * n;
+  philoxCounters (seed, texlet, block, RandomStream::MonteCarlo, first, n, w0, w1, w2, w3);
+  boxMullerWordsSoA (w0, w1, w2, w3, n, g0, g1, g2, g3);
 }
 
 } // namespace kernels

@@ -51,8 +51,7 @@ struct TexletResult
 PCL_TEXLET_HD constexpr int
 texletWorkSize (int count)
 {
-  const int mc = monteCarloPcaWorkSize (count);
-  return mc > 3 * count ? mc : 3 * count;
+  return 3 * count; // the SVD fit's centred points
 }
 
 /** \brief Computes one texlet. \a texlet is its Philox key (the centre pixel's index). */
@@ -124,7 +123,7 @@ computeTexlet (const Neighbourhood<S> &nb, const TexletSettings<S> &st, std::uin
     break;
   case UncertaintyMethod::MonteCarlo:
     if (st.fit == PlaneFitMethod::PCA)
-      monteCarloPcaCovariance (nb, mask, fit, st.samples, st.seed, texlet, N, t1, t2, work, out.cov_p, out.cov_n);
+      monteCarloPcaCovariance (nb, mask, fit, st.samples, st.seed, texlet, N, t1, t2, out.cov_p, out.cov_n);
     else
       monteCarloCovariance (nb, mask, ring_use, st.fit, st.samples, st.seed, texlet, fit.P, N, t1, t2, work,
                           out.cov_p, out.cov_n);

@@ -5,7 +5,9 @@
  *
  * Both methods keep the inlier set of the measured data fixed and perturb each inlier's depth
  * along its ray with its own SD. Monte Carlo (paper, Sect. 3.2) re-fits the plane for every
- * sample; the analytic method is the first-order expansion of the same fit: the mean for P,
+ * sample: monteCarloCovariance() draws every inlier's noise (the reference definition, used
+ * for SVD and averaging); monteCarloPcaCovariance() draws the PCA fit's moments from a
+ * statistically equivalent Gaussian model instead (pca_sampler.h); the analytic method is the first-order expansion of the same fit: the mean for P,
  * the eigenvector perturbation  de0 = -sum_j e_j (e_j' dC e0) / (l_j - l0)  for PCA and SVD,
  * and central differences of Eq. 5 for averaging.
  */
@@ -14,6 +16,7 @@
 #include <pcl_texlet/kernels/config.h>
 #include <pcl_texlet/kernels/neighbourhood.h>
 #include <pcl_texlet/kernels/normal_blocks.h>
+#include <pcl_texlet/kernels/pca_sampler.h>
 #include <pcl_texlet/kernels/philox_rng.h>
 #include <pcl_texlet/kernels/plane_fit.h>
 #include <pcl_texlet/kernels/tangent_frame.h>
@@ -290,154 +293,142 @@ monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, con
   acc.finish (cov_p, cov_n);
 }
 
-/** \brief Sums of offsets d_i = q_i + g_i a_i and of their products over points, in four
-  * lanes (one per point of a Philox block) so that they map onto SIMD registers: with GCC or
-  * Clang on the host as vector types, elsewhere as plain arrays; the arithmetic is the same.
-  */
-template <typename S>
-struct PointMomentLanes
-{
-#if defined(__GNUC__) && !defined(__CUDACC__)
-  typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
-  Lane sx = {}, sy = {}, sz = {}, sxx = {}, sxy = {}, sxz = {}, syy = {}, syz = {}, szz = {};
-
-  /** \brief Adds the four points at q[0..3] + g[0..3] a[0..3]. */
-  void
-  add (const S *qx, const S *qy, const S *qz, const S *ax, const S *ay, const S *az, const S *g)
-  {
-    Lane gk, x, y, z, u, v, w; // memcpy: unaligned loads, and no vector passed by value (ABI)
-    std::memcpy (&gk, g, sizeof gk);
-    std::memcpy (&x, qx, sizeof x); std::memcpy (&y, qy, sizeof y); std::memcpy (&z, qz, sizeof z);
-    std::memcpy (&u, ax, sizeof u); std::memcpy (&v, ay, sizeof v); std::memcpy (&w, az, sizeof w);
-    const Lane dx = x + gk * u, dy = y + gk * v, dz = z + gk * w;
-    sx += dx; sy += dy; sz += dz;
-    sxx += dx * dx; sxy += dx * dy; sxz += dx * dz;
-    syy += dy * dy; syz += dy * dz; szz += dz * dz;
-  }
-
-  static S
-  total (const Lane &v)
-  {
-    S l[4];
-    std::memcpy (l, &v, sizeof l);
-    return (l[0] + l[1]) + (l[2] + l[3]);
-  }
-#else
-  S sx[4] = {}, sy[4] = {}, sz[4] = {}, sxx[4] = {}, sxy[4] = {}, sxz[4] = {}, syy[4] = {}, syz[4] = {}, szz[4] = {};
-
-  PCL_TEXLET_HD void
-  add (const S *qx, const S *qy, const S *qz, const S *ax, const S *ay, const S *az, const S *g)
-  {
-    for (int i = 0; i < 4; ++i)
-    {
-      const S dx = qx[i] + g[i] * ax[i], dy = qy[i] + g[i] * ay[i], dz = qz[i] + g[i] * az[i];
-      sx[i] += dx; sy[i] += dy; sz[i] += dz;
-      sxx[i] += dx * dx; sxy[i] += dx * dy; sxz[i] += dx * dz;
-      syy[i] += dy * dy; syz[i] += dy * dz; szz[i] += dz * dz;
-    }
-  }
-
-  static PCL_TEXLET_HD S
-  total (const S v[4]) { return (v[0] + v[1]) + (v[2] + v[3]); }
-#endif
-
-  /** \brief Mean offset \a m and (1/n) covariance \a c (packed) of the n points added. */
-  PCL_TEXLET_HD void
-  moments (S inv_n, S m[3], S c[6]) const
-  {
-    m[0] = total (sx) * inv_n;
-    m[1] = total (sy) * inv_n;
-    m[2] = total (sz) * inv_n;
-    c[0] = total (sxx) * inv_n - m[0] * m[0];
-    c[1] = total (sxy) * inv_n - m[0] * m[1];
-    c[2] = total (sxz) * inv_n - m[0] * m[2];
-    c[3] = total (syy) * inv_n - m[1] * m[1];
-    c[4] = total (syz) * inv_n - m[1] * m[2];
-    c[5] = total (szz) * inv_n - m[2] * m[2];
-  }
-};
-
-/** \brief Scratch values monteCarloPcaCovariance() needs for \a count points. */
-PCL_TEXLET_HD constexpr int
-monteCarloPcaWorkSize (int count)
-{
-  return 6 * ((count + 3) / 4) * 4;
-}
-
-/** \brief Monte Carlo covariances of a PCA fit: the same samples as monteCarloCovariance()
-  * with PlaneFitMethod::PCA (draws from Philox counters (seed, texlet, sample, point block)),
-  * to floating-point rounding, computed faster.
+/** \brief Monte Carlo covariances of a PCA fit with the Gaussian moment model of
+  * pca_sampler.h: \a samples re-fits whose moments are drawn from 15 normals each (Philox
+  * counters (seed, texlet, sample, block 0..3)) instead of one normal per inlier.
   *
-  * A sample moves inlier k along its ray, p_k (1 + g_k sigma_k / z_k), so its offset from P0 is
-  * q_k + g_k a_k with q_k = p_k - P0 and a_k = (sigma_k / z_k) p_k, precomputed once per texlet
-  * (zero for outliers, which then add nothing). The normals come block-parallel from
-  * normalBlocks(); the moments are summed in four lanes (one per point of a Philox block) that
-  * the compiler keeps in SIMD registers; the re-fit's eigenvectors are found by Jacobi rotations
-  * from those of the measured fit, \a fit, which is close to every sample's.
-  * \param work scratch of monteCarloPcaWorkSize (nb.count) values
+  * Statistically equivalent to monteCarloCovariance() with PlaneFitMethod::PCA, which stays the
+  * reference definition: the sample moments have the same mean and covariance, their part
+  * linear in the depth noise (order sigma * extent) has exactly the same Gaussian law, and
+  * only the higher moments of the part quadratic in the noise (order sigma^2) differ (see
+  * pca_sampler.h). The random stream differs, so the values differ from the per-point
+  * sampler's at the same seed as they would at another seed. The sums over the inliers are
+  * made once (in four SIMD lanes on the host), the samples' normals are drawn for up to 32
+  * samples at a time (normalSamples()), and the re-fit is a few Newton steps in the measured
+  * fit's eigenbasis \a fit (N, e1, e2), falling back to the Jacobi and closed-form eigen
+  * solvers when they do not converge. The GPU's warp kernel uses the same pieces and draws.
   */
 template <typename S> PCL_TEXLET_HD void
 monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit, int samples,
                          std::uint32_t seed, std::uint32_t texlet, const Vec3<S> &N0, const Vec3<S> &t1,
-                         const Vec3<S> &t2, S *work, S cov_p[6], S cov_n[3])
+                         const Vec3<S> &t2, S cov_p[6], S cov_n[3])
 {
-  const int blocks = (nb.count + 3) / 4, padded = 4 * blocks;
-  S *qx = work, *qy = work + padded, *qz = work + 2 * padded;
-  S *ax = work + 3 * padded, *ay = work + 4 * padded, *az = work + 5 * padded;
   const Vec3<S> P0 = fit.P;
+  const Vec3<S> axes[3] = {fit.N, fit.e1, fit.e2};
+  const S P0b[3] = {dot (axes[0], P0), dot (axes[1], P0), dot (axes[2], P0)};
   int n = 0;
-  for (int k = 0; k < padded; ++k)
+  for (int k = 0; k < nb.count; ++k)
+    n += mask[k] ? 1 : 0;
+  if (n < 3)
   {
-    if (k < nb.count && mask[k])
-    {
-      const Vec3<S> p = nb.point (k), q = p - P0;
-      const S f = nb.sigma[k] / nb.z[k];
-      qx[k] = q.x; qy[k] = q.y; qz[k] = q.z;
-      ax[k] = f * p.x; ay[k] = f * p.y; az[k] = f * p.z;
-      ++n;
-    }
-    else
-      qx[k] = qy[k] = qz[k] = ax[k] = ay[k] = az[k] = S (0);
+    fillNaN (cov_p, 6);
+    fillNaN (cov_n, 3);
+    return;
   }
-  const Vec3<S> basis[3] = {fit.N, fit.e1, fit.e2};
-  const S inv_n = S (1) / S (n);
+  PcaModelSums<S> sums;
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  {
+    // pcaModelPoint() four points at a time, one per lane.
+    typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+    Lane lanes[PcaModelSums<S>::kCount] = {};
+    for (int k = 0; k < nb.count; k += 4)
+    {
+      S bx[4], by[4], bz[4], bs[4], bu[4];
+      PCL_TEXLET_UNROLL_LOOP
+      for (int i = 0; i < 4; ++i)
+      {
+        const bool in = k + i < nb.count;
+        bx[i] = in ? nb.x[k + i] : S (0);
+        by[i] = in ? nb.y[k + i] : S (0);
+        bz[i] = in ? nb.z[k + i] : S (1);
+        bs[i] = in ? nb.sigma[k + i] : S (0);
+        bu[i] = in && mask[k + i] ? S (1) : S (0);
+      }
+      Lane px, py, pz, sd, use;
+      std::memcpy (&px, bx, sizeof px);
+      std::memcpy (&py, by, sizeof py);
+      std::memcpy (&pz, bz, sizeof pz);
+      std::memcpy (&sd, bs, sizeof sd);
+      std::memcpy (&use, bu, sizeof use);
+      const Lane dx = px - P0.x, dy = py - P0.y, dz = pz - P0.z;
+      const Lane f = use * sd / pz;
+      Lane q[3], a[3];
+      for (int i = 0; i < 3; ++i)
+      {
+        const Lane qi = axes[i].x * dx + axes[i].y * dy + axes[i].z * dz;
+        q[i] = use * qi;
+        a[i] = f * (qi + P0b[i]);
+      }
+      addPcaModelTerms (lanes, q, a);
+    }
+    for (int i = 0; i < PcaModelSums<S>::kCount; ++i)
+      sums.v[i] = (lanes[i][0] + lanes[i][1]) + (lanes[i][2] + lanes[i][3]);
+  }
+#else
+  sums.reset ();
+  for (int k = 0; k < nb.count; ++k)
+  {
+    S q[3], a[3];
+    pcaModelPoint (nb, mask, k, P0, axes, P0b, q, a);
+    sums.add (q, a);
+  }
+#endif
+  PcaSampleModel<S> md;
+  preparePcaSampleModel (sums, n, fit, N0, t1, t2, md);
 
-  constexpr int chunk = 32; // Philox blocks per batch of normals (128 points)
-  std::uint32_t words[4 * chunk];
-  S g[4 * chunk];
   SampleCovariance<S> acc;
   acc.reset ();
+  Vec3<S> dP;
+  S a1, a2;
+#if !defined(__CUDACC__)
+  constexpr int chunk = 32; // samples whose normals are drawn at once
+  std::uint32_t words[4 * chunk];
+  S zs[kPcaSampleNormals][chunk]; // normal j of sample first + i at zs[j][i]
+  for (int first = 0; first < samples; first += chunk)
+  {
+    const int ns = samples - first < chunk ? samples - first : chunk;
+    const int ndraw = (ns + 7) / 8 * 8; // whole 8-wide SIMD steps; the spare draws go unused
+    for (int b = 0; b < 4; ++b)
+      normalSamples (seed, texlet, static_cast<std::uint32_t> (b), first, ndraw, words, zs[4 * b], zs[4 * b + 1],
+                     zs[4 * b + 2], zs[4 * b + 3]);
+#if defined(__GNUC__)
+    // Moments of four samples at a time, one a lane; the re-fits one by one.
+    typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+    for (int i = 0; i < ns; i += 4)
+    {
+      Lane zl[kPcaSampleNormals - 1], ml[3], cl[6];
+      PCL_TEXLET_UNROLL_LOOP
+      for (int j = 0; j < kPcaSampleNormals - 1; ++j)
+        std::memcpy (&zl[j], zs[j] + i, sizeof (Lane));
+      pcaSampleMoments (md, zl, ml, cl);
+      for (int l = 0; l < 4 && i + l < ns; ++l)
+      {
+        const S m[3] = {ml[0][l], ml[1][l], ml[2][l]};
+        const S c[6] = {cl[0][l], cl[1][l], cl[2][l], cl[3][l], cl[4][l], cl[5][l]};
+        if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
+          acc.add (dP, a1, a2);
+      }
+    }
+#else
+    for (int i = 0; i < ns; ++i)
+    {
+      S z[kPcaSampleNormals];
+      for (int j = 0; j < kPcaSampleNormals; ++j)
+        z[j] = zs[j][i];
+      if (pcaSampleRefit (md, z, dP, a1, a2))
+        acc.add (dP, a1, a2);
+    }
+#endif
+  }
+#else
   for (int s = 0; s < samples; ++s)
   {
-    // Moments of the sample's offsets from P0, one lane per point of a block.
-    S m[3], c[6];
-    {
-      PointMomentLanes<S> lanes;
-      for (int first = 0; first < blocks; first += chunk)
-      {
-        const int nblk = blocks - first < chunk ? blocks - first : chunk;
-        // Draws for a whole number of 8-block SIMD steps (the spare ones go unused): no
-        // scalar remainder loop.
-        const int ndraw = (nblk + 7) / 8 * 8;
-        normalBlocks (seed, texlet, static_cast<std::uint32_t> (s), first, ndraw, words, g);
-        const int k0 = 4 * first;
-        for (int b = 0; b < nblk; ++b)
-          lanes.add (qx + k0 + 4 * b, qy + k0 + 4 * b, qz + k0 + 4 * b, ax + k0 + 4 * b, ay + k0 + 4 * b,
-                     az + k0 + 4 * b, g + 4 * b);
-      }
-      lanes.moments (inv_n, m, c);
-    }
-    // The re-fit as fitPlanePca() does it: no plane for (nearly) collinear points.
-    SymEigen3<S> eig;
-    if (!symmetricEigen3Near (c, basis, eig) && !symmetricEigen3 (c, eig))
-      continue;
-    if (!(eig.values[1] > collinearityLimit<S> () * eig.values[2]))
-      continue;
-    Vec3<S> N = eig.vectors[0];
-    if (dot (N, N0) < S (0))
-      N = -N;
-    acc.add (make3 (m[0], m[1], m[2]), dot (N, t1), dot (N, t2));
+    S z[kPcaSampleNormals];
+    pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
+    if (pcaSampleRefit (md, z, dP, a1, a2))
+      acc.add (dP, a1, a2);
   }
+#endif
   acc.finish (cov_p, cov_n);
 }
 

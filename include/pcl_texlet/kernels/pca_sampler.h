@@ -1,0 +1,254 @@
+/*
+ * pcl_texlet kernels: Monte Carlo re-fits of a PCA plane from a Gaussian model of the noisy
+ * moments, 15 normals per sample whatever the number of points.
+ *
+ * The exact sampler (kernels::monteCarloCovariance) moves inlier k along its ray,
+ * d_k = q_k + g_k a_k, with q_k = p_k - P0 (P0 the measured centroid), a_k = (sigma_k / z_k) p_k
+ * and g_k iid N(0, 1), and re-fits the plane to the moments of the d_k:
+ *
+ *   m = (1/n) sum d_k = mq + (1/n) sum g_k a_k                       (mq = (1/n) sum q_k ~ 0)
+ *   S = (1/n) sum d_k d_k' = (1/n) [sum q q' + sum g_k B_k + sum g_k^2 A_k],
+ *       B_k = q_k a_k' + a_k q_k',  A_k = a_k a_k',
+ *   c = S - m m'  (the re-fit's covariance; its smallest eigenvector is the sample's normal).
+ *
+ * The re-fit depends on the g_k only through y = (1/n) sum g_k w_k with w_k = (a_k, B_k) (9
+ * values) and the quadratic term (1/n) sum g_k^2 A_k (6 values). Here:
+ *
+ * - y is drawn exactly: it is a linear function of Gaussians, hence Gaussian with covariance
+ *   C_lin = (1/n^2) sum w_k w_k'. y = F9 z with F9 F9' = C_lin (semidefinite_factor.h) and z 9
+ *   standard normals has exactly the law of the per-point sampler's y.
+ * - (1/n) sum g_k^2 A_k = (1/n) sum A_k (its mean, exact) + (1/n) sum (g_k^2 - 1) A_k. The
+ *   fluctuation has mean 0 and covariance C_quad = (2/n^2) sum vec(A_k) vec(A_k)', and is
+ *   uncorrelated with y (E g^3 = E g = 0). It is drawn as a Gaussian with that covariance,
+ *   F6 z' from 6 more normals, independent of y.
+ *
+ * So (y, quadratic term) has the same mean and covariance as under the per-point sampler and
+ * y has the same law; only the quadratic term's higher moments differ (a sum of ~n scaled
+ * chi-square(1) variables replaced by a Gaussian; by the central limit theorem the difference
+ * vanishes as n grows) and its dependence on y beyond correlation. That term is of order
+ * sigma^2 where the linear one is of order sigma * extent: a relative difference of order
+ * sigma / extent in the sample's moments, and smaller still in the covariances of P and N.
+ * Everything is written in the measured fit's eigenbasis (N, e1, e2), where c is nearly
+ * diagonal: the re-fit is then smallestEigen3NearFirstAxis() (sym_eigen3.h), a few Newton
+ * steps, not a 3x3 eigen solve.
+ *
+ * Cost per sample: 15 normals (four Philox blocks), a 9x9 and a 6x6 triangular product and the
+ * Newton steps, against n normals and n moment updates for the per-point sampler. The sums over
+ * the points (PcaModelSums) are made once per texlet.
+ */
+#pragma once
+
+#include <pcl_texlet/kernels/neighbourhood.h>
+#include <pcl_texlet/kernels/normal_blocks.h>
+#include <pcl_texlet/kernels/plane_fit.h>
+#include <pcl_texlet/kernels/semidefinite_factor.h>
+#include <pcl_texlet/kernels/sym_eigen3.h>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace kernels
+{
+
+/** \brief Standard normals one Monte Carlo sample of the PCA model draws: blocks 0..3 of the
+  * Philox stream (seed, texlet, sample), one more than the 15 it uses.
+  */
+constexpr int kPcaSampleNormals = 16;
+
+/** \brief Adds one point's terms to the sums of the Gaussian model of a PCA re-fit (layout:
+  * PcaModelSums), from its q (offset from P0) and a (ray direction times sigma / z), both in
+  * the measured fit's eigenbasis and zero for an outlier. \a V is the scalar or a SIMD lane
+  * type (deduced, so that GCC keeps its vector attribute): the same arithmetic either way.
+  */
+template <typename V> PCL_TEXLET_HD void
+addPcaModelTerms (V *v, const V *q, const V *a)
+{
+  V w[9], A[6];
+  w[0] = a[0]; w[1] = a[1]; w[2] = a[2];
+  PCL_TEXLET_UNROLL_LOOP
+  for (int i = 0, k = 0; i < 3; ++i)
+    PCL_TEXLET_UNROLL_LOOP
+    for (int j = i; j < 3; ++j, ++k)
+    {
+      w[3 + k] = q[i] * a[j] + a[i] * q[j];
+      A[k] = a[i] * a[j];
+      v[3 + k] += q[i] * q[j];
+    }
+  PCL_TEXLET_UNROLL_LOOP
+  for (int i = 0; i < 3; ++i)
+    v[i] += q[i];
+  PCL_TEXLET_UNROLL_LOOP
+  for (int i = 0, k = 9; i < 9; ++i)
+    PCL_TEXLET_UNROLL_LOOP
+    for (int j = i; j < 9; ++j, ++k)
+      v[k] += w[i] * w[j];
+  PCL_TEXLET_UNROLL_LOOP
+  for (int i = 0, k = 54; i < 6; ++i)
+    PCL_TEXLET_UNROLL_LOOP
+    for (int j = i; j < 6; ++j, ++k)
+      v[k] += A[i] * A[j];
+}
+
+/** \brief Sums over the inliers that define the Gaussian model of a PCA re-fit. */
+template <typename S>
+struct PcaModelSums
+{
+  static constexpr int kQ = 0, kQQ = 3, kWW = 9, kAA = 54, kCount = 75;
+  /** sum q (3), sum q q' (6, packed), sum w w' (45, packed 9x9; its leading 3x3 block is
+    * sum a a'), sum vec(A) vec(A)' (21, packed 6x6), w = (a, q a' + a q' packed), A = a a'. */
+  S v[kCount];
+
+  PCL_TEXLET_HD void
+  reset ()
+  {
+    for (int i = 0; i < kCount; ++i)
+      v[i] = S (0);
+  }
+
+  PCL_TEXLET_HD void
+  add (const S q[3], const S a[3])
+  {
+    addPcaModelTerms (v, q, a);
+  }
+};
+
+/** \brief What one sample of the PCA model needs: the measured fit's eigenbasis, the constant
+  * parts of the moments and the square-root factors of the random parts, all in that basis.
+  */
+template <typename S>
+struct PcaSampleModel
+{
+  Vec3<S> axes[3];               ///< N, e1, e2 of the measured fit (world frame)
+  S mean[3];                     ///< (1/n) sum q
+  S base[6];                     ///< (1/n) (sum q q' + sum a a'), packed
+  SemidefiniteFactor<S, 9> lin;  ///< of C_lin = (1/n^2) sum w w'
+  SemidefiniteFactor<S, 6> quad; ///< of C_quad = (2/n^2) sum vec(A) vec(A)'
+  Vec3<S> n0, t1, t2;            ///< the reference normal and the tangent frame, in the basis
+};
+
+/** \brief Point \a k's q and a in the basis \a axes (N, e1, e2), zero for an outlier. */
+template <typename S> PCL_TEXLET_HD void
+pcaModelPoint (const Neighbourhood<S> &nb, const unsigned char *mask, int k, const Vec3<S> &P0, const Vec3<S> axes[3],
+               const S P0b[3], S q[3], S a[3])
+{
+  const S use = mask[k] ? S (1) : S (0);
+  const Vec3<S> d = nb.point (k) - P0;
+  const S f = use * nb.sigma[k] / nb.z[k];
+  for (int i = 0; i < 3; ++i)
+  {
+    const S qi = dot (axes[i], d);
+    q[i] = use * qi;
+    a[i] = f * (qi + P0b[i]);
+  }
+}
+
+/** \brief Makes the model from the sums over \a n inliers; \a n0, \a t1, \a t2 are the
+  * reference normal (samples are turned toward it) and the tangent frame, world frame.
+  */
+template <typename S> PCL_TEXLET_HD void
+preparePcaSampleModel (const PcaModelSums<S> &sums, int n, const PlaneFit<S> &fit, const Vec3<S> &n0,
+                       const Vec3<S> &t1, const Vec3<S> &t2, PcaSampleModel<S> &md)
+{
+  typedef PcaModelSums<S> Sums;
+  md.axes[0] = fit.N;
+  md.axes[1] = fit.e1;
+  md.axes[2] = fit.e2;
+  const S inv_n = S (1) / S (n), inv_n2 = inv_n * inv_n;
+  for (int i = 0; i < 3; ++i)
+    md.mean[i] = sums.v[Sums::kQ + i] * inv_n;
+  for (int i = 0, k = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j, ++k)
+      md.base[k] = (sums.v[Sums::kQQ + k] + sums.v[Sums::kWW + packedIndex<9> (i, j)]) * inv_n;
+  S c[45];
+  for (int k = 0; k < 45; ++k)
+    c[k] = sums.v[Sums::kWW + k] * inv_n2;
+  factorSemidefinite<S, 9> (c, md.lin);
+  for (int k = 0; k < 21; ++k)
+    c[k] = S (2) * sums.v[Sums::kAA + k] * inv_n2;
+  factorSemidefinite<S, 6> (c, md.quad);
+  md.n0 = make3 (dot (n0, fit.N), dot (n0, fit.e1), dot (n0, fit.e2));
+  md.t1 = make3 (dot (t1, fit.N), dot (t1, fit.e1), dot (t1, fit.e2));
+  md.t2 = make3 (dot (t2, fit.N), dot (t2, fit.e1), dot (t2, fit.e2));
+}
+
+/** \brief The kPcaSampleNormals normals of sample \a sample, one at a time (the GPU's way):
+  * the bits of normalSamples() for blocks 0..3 at z[4 block + i] (z[15] is not used).
+  */
+template <typename S> PCL_TEXLET_HD void
+pcaSampleNormals (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, S z[kPcaSampleNormals])
+{
+  for (std::uint32_t b = 0; b < 4; ++b)
+  {
+    const r123::Philox4x32::ctr_type w = philoxWords (seed, texlet, sample, b, RandomStream::MonteCarlo);
+    float x0, y0, x1, y1;
+    boxMullerFloat (w.v[0], w.v[1], x0, y0);
+    boxMullerFloat (w.v[2], w.v[3], x1, y1);
+    z[4 * b + 0] = x0;
+    z[4 * b + 1] = y0;
+    z[4 * b + 2] = x1;
+    z[4 * b + 3] = y1;
+  }
+}
+
+/** \brief The moments of one sample from its normals \a z: the mean offset \a m from P0 and
+  * the (1/n) covariance \a c (packed), both in the model's basis. \a V is S or a SIMD lane
+  * type holding several samples, one a lane: the same arithmetic.
+  */
+template <typename S, typename V> PCL_TEXLET_HD void
+pcaSampleMoments (const PcaSampleModel<S> &md, const V *z, V m[3], V c[6])
+{
+  V y[9], u[6];
+  md.lin.apply (z, y);
+  md.quad.apply (z + 9, u);
+  for (int i = 0; i < 3; ++i)
+    m[i] = md.mean[i] + y[i];
+  for (int i = 0, k = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j, ++k)
+      c[k] = (md.base[k] + y[3 + k] + u[k]) - m[i] * m[j];
+}
+
+/** \brief The re-fit of one sample from its moments (pcaSampleMoments()), as fitPlanePca()
+  * does it: no plane for (nearly) collinear points (eigenvalue 1 not above collinearityLimit()
+  * times eigenvalue 2).
+  * \param dP the sample's centre minus P0 (world frame)
+  * \param a1,a2 the sample's normal, turned toward the model's n0, along t1 and t2
+  * \return false when the sample has no plane
+  */
+template <typename S> PCL_TEXLET_HD bool
+pcaSampleRefitMoments (const PcaSampleModel<S> &md, const S m[3], const S c[6], Vec3<S> &dP, S &a1, S &a2)
+{
+  SmallestEigen3<S> eig;
+  if (!smallestEigen3NearFirstAxis (c, eig))
+  {
+    const Vec3<S> axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    SymEigen3<S> full;
+    if (!symmetricEigen3Near (c, axes, full) && !symmetricEigen3 (c, full))
+      return false;
+    eig.vector = full.vectors[0];
+    for (int i = 0; i < 3; ++i)
+      eig.values[i] = full.values[i];
+  }
+  if (!(eig.values[1] > collinearityLimit<S> () * eig.values[2]))
+    return false;
+  Vec3<S> v = eig.vector;
+  if (dot (v, md.n0) < S (0))
+    v = -v;
+  a1 = dot (v, md.t1);
+  a2 = dot (v, md.t2);
+  dP = m[0] * md.axes[0] + m[1] * md.axes[1] + m[2] * md.axes[2];
+  return true;
+}
+
+/** \brief One sample from its normals \a z (pcaSampleNormals()): moments and re-fit. */
+template <typename S> PCL_TEXLET_HD bool
+pcaSampleRefit (const PcaSampleModel<S> &md, const S z[kPcaSampleNormals], Vec3<S> &dP, S &a1, S &a2)
+{
+  S m[3], c[6];
+  pcaSampleMoments (md, z, m, c);
+  return pcaSampleRefitMoments (md, m, c, dP, a1, a2);
+}
+
+} // namespace kernels
+} // namespace texlet
+} // namespace pcl

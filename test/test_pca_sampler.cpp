@@ -1,0 +1,498 @@
+/*
+ * The Gaussian moment model of the PCA Monte Carlo (kernels/pca_sampler.h) against its
+ * definitions: the square-root factors reproduce C_lin and C_quad computed here from the points
+ * (also when they are rank-deficient), the Newton re-fit equals the closed-form eigen solve,
+ * the batched draws are the one-at-a-time ones, and the covariances of P and N agree with the
+ * per-point sampler (monteCarloCovariance, the reference definition) within their Monte Carlo
+ * standard error on planar and curved patches.
+ */
+#include <pcl_texlet/kernels/pca_sampler.h>
+#include <pcl_texlet/kernels/texlet_kernel.h>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace pcl::texlet;
+using namespace pcl::texlet::kernels;
+
+namespace
+{
+
+/** A noisy round patch of a depth image (radius 6 pixels, f = 525), the plane through
+  * (0, 0, depth) with normal n, or with curvature > 0 the sphere of radius 1 / curvature
+  * touching it there; depth SD sd_scale z^2 (the paper's model has 1.5e-3 m at 1 m). */
+struct Patch
+{
+  std::vector<double> x, y, z, sigma;
+  Neighbourhood<double> nb;
+
+  Patch (std::mt19937 &rng, double depth, double curvature, double sd_scale, int outliers = 0)
+  {
+    std::normal_distribution<double> g (0, 1);
+    const Eigen::Vector3d n = Eigen::Vector3d (0.3 * g (rng), 0.3 * g (rng), -1).normalized ();
+    const double f = 525.0, cu = 40 * g (rng), cv = 40 * g (rng);
+    const Eigen::Vector3d touch = depth * Eigen::Vector3d (cu / f, cv / f, 1.0); // on the centre pixel's ray
+    for (int dv = -6; dv <= 6; ++dv)
+      for (int du = -6; du <= 6; ++du)
+      {
+        if (du * du + dv * dv > 36)
+          continue;
+        const Eigen::Vector3d ray ((cu + du) / f, (cv + dv) / f, 1.0);
+        double t;
+        if (curvature > 0)
+        {
+          // Nearest intersection with the sphere of centre touch - n / curvature.
+          const double R = 1.0 / curvature;
+          const Eigen::Vector3d c = touch - R * n;
+          const double b = ray.dot (c), a = ray.squaredNorm ();
+          t = (b - std::sqrt (b * b - a * (c.squaredNorm () - R * R))) / a;
+        }
+        else
+          t = n.dot (touch) / n.dot (ray);
+        const double sd = sd_scale * t * t;
+        Eigen::Vector3d p = (t + sd * g (rng)) * ray;
+        if (static_cast<int> (x.size ()) < outliers)
+          p *= 1.05;
+        x.push_back (p.x ()); y.push_back (p.y ()); z.push_back (p.z ());
+        sigma.push_back (sd);
+      }
+    bind ();
+  }
+
+  void
+  bind ()
+  {
+    nb.x = x.data (); nb.y = y.data (); nb.z = z.data (); nb.sigma = sigma.data ();
+    nb.count = static_cast<int> (x.size ());
+    for (int k = 0; k < 7; ++k)
+    {
+      nb.ring[k] = nb.point ((k * 16) % nb.count);
+      nb.ring_sigma[k] = sigma[(k * 16) % nb.count];
+      nb.ring_valid[k] = true;
+    }
+  }
+};
+
+/** The measured PCA fit of the masked points and the frame computeTexlet gives it. */
+struct MeasuredFit
+{
+  PlaneFit<double> fit;
+  Vec3<double> N, t1, t2;
+  bool ok = false;
+
+  MeasuredFit (const Neighbourhood<double> &nb, const unsigned char *mask)
+  {
+    PlaneMoments<double> m;
+    m.reset (nb.point (0));
+    for (int k = 0; k < nb.count; ++k)
+      if (mask[k])
+        m.add (nb.point (k));
+    ok = fitPlanePca (m, fit);
+    N = fit.N;
+    if (dot (N, make3 (0.0, 0.0, 0.0) - fit.P) < 0)
+      N = -N;
+    tangentFrame (N, t1, t2);
+  }
+};
+
+/** F F' of a factor, as a dense matrix in component order. */
+template <int N>
+Eigen::Matrix<double, N, N>
+product (const SemidefiniteFactor<double, N> &f)
+{
+  Eigen::Matrix<double, N, N> F = Eigen::Matrix<double, N, N>::Zero ();
+  for (int i = 0, r = 0; i < N; ++i)
+    for (int j = 0; j <= i; ++j, ++r)
+      F (f.target[i], j) = f.rows[r];
+  return F * F.transpose ();
+}
+
+template <int N>
+std::vector<double>
+pack (const Eigen::Matrix<double, N, N> &C)
+{
+  std::vector<double> c;
+  for (int i = 0; i < N; ++i)
+    for (int j = i; j < N; ++j)
+      c.push_back (C (i, j));
+  return c;
+}
+
+/** Largest |A_ij - B_ij| / sqrt(B_ii B_jj) over the entries with a non-zero diagonal. */
+template <int N>
+double
+scaledDifference (const Eigen::Matrix<double, N, N> &A, const Eigen::Matrix<double, N, N> &B)
+{
+  double worst = 0;
+  for (int i = 0; i < N; ++i)
+    for (int j = 0; j < N; ++j)
+    {
+      const double s = std::sqrt (B (i, i) * B (j, j));
+      if (s > 0)
+        worst = std::max (worst, std::fabs (A (i, j) - B (i, j)) / s);
+      else
+        worst = std::max (worst, std::fabs (A (i, j)) > 0 ? 1.0 : 0.0);
+    }
+  return worst;
+}
+
+/** C_lin and C_quad of pca_sampler.h computed here, in the fit's eigenbasis, from the points. */
+void
+modelCovariances (const Neighbourhood<double> &nb, const unsigned char *mask, const PlaneFit<double> &fit,
+                  Eigen::Matrix<double, 9, 9> &lin, Eigen::Matrix<double, 6, 6> &quad)
+{
+  Eigen::Matrix3d E;
+  E << fit.N.x, fit.N.y, fit.N.z, fit.e1.x, fit.e1.y, fit.e1.z, fit.e2.x, fit.e2.y, fit.e2.z;
+  const Eigen::Vector3d P0 (fit.P.x, fit.P.y, fit.P.z);
+  lin.setZero ();
+  quad.setZero ();
+  int n = 0;
+  for (int k = 0; k < nb.count; ++k)
+  {
+    if (!mask[k])
+      continue;
+    ++n;
+    const Eigen::Vector3d p (nb.x[k], nb.y[k], nb.z[k]);
+    const Eigen::Vector3d q = E * (p - P0), a = (nb.sigma[k] / nb.z[k]) * (E * p);
+    const Eigen::Matrix3d B = q * a.transpose () + a * q.transpose (), A = a * a.transpose ();
+    Eigen::Matrix<double, 9, 1> w;
+    Eigen::Matrix<double, 6, 1> v;
+    w << a, B (0, 0), B (0, 1), B (0, 2), B (1, 1), B (1, 2), B (2, 2);
+    v << A (0, 0), A (0, 1), A (0, 2), A (1, 1), A (1, 2), A (2, 2);
+    lin += w * w.transpose ();
+    quad += 2 * v * v.transpose ();
+  }
+  lin /= double (n) * n;
+  quad /= double (n) * n;
+}
+
+} // namespace
+
+TEST (SemidefiniteFactor, ReproducesFullRankAndRankDeficientMatrices)
+{
+  std::mt19937 rng (21);
+  std::normal_distribution<double> g (0, 1);
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    // Rank 9 down to 0; components of very different scales (as a and B have).
+    const int rank = trial % 10;
+    Eigen::Matrix<double, 9, 9> W = Eigen::Matrix<double, 9, 9>::Zero ();
+    for (int i = 0; i < 9; ++i)
+      for (int j = 0; j < rank; ++j)
+        W (i, j) = g (rng) * std::pow (10.0, -2 - (i % 4));
+    const Eigen::Matrix<double, 9, 9> C = W * W.transpose ();
+    const std::vector<double> c = pack<9> (C);
+    SemidefiniteFactor<double, 9> f;
+    factorSemidefinite<double, 9> (c.data (), f);
+    EXPECT_EQ (f.rank, rank) << "trial " << trial;
+    for (double v : f.rows)
+      ASSERT_TRUE (std::isfinite (v));
+    EXPECT_LT (scaledDifference<9> (product<9> (f), C), 1e-12) << "trial " << trial;
+  }
+  // A component that is an exact combination of two others, and one with zero variance.
+  Eigen::Matrix<double, 6, 6> W = Eigen::Matrix<double, 6, 6>::Random ();
+  W.row (4) = 0.5 * W.row (1) - 2.0 * W.row (3);
+  W.row (5).setZero ();
+  const Eigen::Matrix<double, 6, 6> C = W * W.transpose ();
+  const std::vector<double> c = pack<6> (C);
+  SemidefiniteFactor<double, 6> f;
+  factorSemidefinite<double, 6> (c.data (), f);
+  EXPECT_EQ (f.rank, 4);
+  EXPECT_LT (scaledDifference<6> (product<6> (f), C), 1e-12);
+  // Non-finite and negative diagonals give zero rows, never NaN.
+  std::vector<double> bad (21, 0.0);
+  bad[packedIndex<6> (0, 0)] = -1.0;
+  bad[packedIndex<6> (2, 2)] = NAN;
+  bad[packedIndex<6> (3, 3)] = 4.0;
+  factorSemidefinite<double, 6> (bad.data (), f);
+  EXPECT_EQ (f.rank, 1);
+  for (double v : f.rows)
+    EXPECT_TRUE (std::isfinite (v));
+}
+
+TEST (SmallestEigen3, NewtonStepsEqualTheClosedFormSolve)
+{
+  std::mt19937 rng (4);
+  std::normal_distribution<double> g (0, 1);
+  int converged = 0, declined_small = 0;
+  const int trials = 5000;
+  for (int trial = 0; trial < trials; ++trial)
+  {
+    // A patch covariance in its own eigenbasis (smallest first) plus a Monte Carlo-sized
+    // perturbation; every tenth trial a large one, for which Newton may decline.
+    const Eigen::Vector3d l (1e-6 * std::exp (g (rng)), 3e-5 * std::exp (0.3 * g (rng)), 4e-5 * std::exp (0.3 * g (rng)));
+    const double size = trial % 10 == 0 ? 2e-5 : 3e-7;
+    Eigen::Matrix3d E = size * Eigen::Matrix3d::NullaryExpr ([&] () { return g (rng); });
+    const Eigen::Matrix3d B = Eigen::Matrix3d (l.asDiagonal ()) + E + E.transpose ();
+    const double b[6] = {B (0, 0), B (0, 1), B (0, 2), B (1, 1), B (1, 2), B (2, 2)};
+    SmallestEigen3<double> near;
+    SymEigen3<double> closed;
+    ASSERT_TRUE (symmetricEigen3 (b, closed));
+    if (!smallestEigen3NearFirstAxis (b, near))
+    {
+      // Declining is safe (the caller falls back to the Jacobi and closed-form solvers); it
+      // happens when l0 and l1 nearly meet.
+      declined_small += trial % 10 != 0;
+      continue;
+    }
+    ++converged;
+    const Eigen::Vector3d u (near.vector.x, near.vector.y, near.vector.z);
+    const Eigen::Vector3d v (closed.vectors[0].x, closed.vectors[0].y, closed.vectors[0].z);
+    EXPECT_NEAR (u.norm (), 1.0, 1e-14);
+    EXPECT_LT (std::atan2 (u.cross (v).norm (), std::fabs (u.dot (v))), 1e-10) << "trial " << trial;
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR (near.values[i], closed.values[i], 1e-11 * l.maxCoeff ()) << "trial " << trial << " value " << i;
+  }
+  EXPECT_GT (converged, trials * 9 / 10);
+  EXPECT_LT (declined_small, trials / 100);
+  // Degenerate input: declined, no garbage.
+  const double zero[6] = {0, 0, 0, 0, 0, 0}, flat[6] = {1, 0, 0, 1, 0, 1}, nan[6] = {NAN, 0, 0, 1, 0, 1};
+  SmallestEigen3<double> e;
+  EXPECT_FALSE (smallestEigen3NearFirstAxis (zero, e));
+  EXPECT_FALSE (smallestEigen3NearFirstAxis (flat, e));
+  EXPECT_FALSE (smallestEigen3NearFirstAxis (nan, e));
+}
+
+TEST (PcaSampler, FactorsReproduceTheModelCovariancesOfThePoints)
+{
+  std::mt19937 rng (8);
+  for (int trial = 0; trial < 40; ++trial)
+  {
+    const double depth = 0.6 + 0.05 * trial;
+    Patch patch (rng, depth, trial % 2 ? 0.0 : 10.0, 1.5e-3, trial % 3 == 0 ? 10 : 0);
+    // Few inliers make C_lin (9x9) and C_quad (6x6) rank-deficient: rank <= inliers.
+    const int inliers = trial % 4 == 1 ? 4 + trial % 3 : patch.nb.count;
+    std::vector<unsigned char> mask (patch.nb.count, 0);
+    for (int k = 0; k < inliers; ++k)
+      mask[(k * 29) % patch.nb.count] = 1; // spread over the disc's rows: not collinear
+    const MeasuredFit m (patch.nb, mask.data ());
+    ASSERT_TRUE (m.ok) << "trial " << trial;
+    const Vec3<double> axes[3] = {m.fit.N, m.fit.e1, m.fit.e2};
+    const double P0b[3] = {dot (axes[0], m.fit.P), dot (axes[1], m.fit.P), dot (axes[2], m.fit.P)};
+    PcaModelSums<double> sums;
+    sums.reset ();
+    for (int k = 0; k < patch.nb.count; ++k)
+    {
+      double q[3], a[3];
+      pcaModelPoint (patch.nb, mask.data (), k, m.fit.P, axes, P0b, q, a);
+      sums.add (q, a);
+    }
+    PcaSampleModel<double> md;
+    preparePcaSampleModel (sums, inliers, m.fit, m.N, m.t1, m.t2, md);
+    Eigen::Matrix<double, 9, 9> lin;
+    Eigen::Matrix<double, 6, 6> quad;
+    modelCovariances (patch.nb, mask.data (), m.fit, lin, quad);
+    EXPECT_LT (scaledDifference<9> (product<9> (md.lin), lin), 1e-9) << "trial " << trial;
+    EXPECT_LT (scaledDifference<6> (product<6> (md.quad), quad), 1e-9) << "trial " << trial;
+    if (inliers < 9)
+      EXPECT_LE (md.lin.rank, inliers) << "trial " << trial;
+    if (inliers < 6)
+      EXPECT_LE (md.quad.rank, inliers) << "trial " << trial;
+    // The constant part of the moments is the measured covariance plus the noise's mean.
+    EXPECT_NEAR (md.base[0], m.fit.lambda[0] + lin (0, 0) * inliers, 1e-9 * m.fit.lambda[2]);
+    EXPECT_NEAR (md.mean[0], 0.0, 1e-12);
+  }
+}
+
+TEST (PcaSampler, BatchedDrawsAreTheOneAtATimeDraws)
+{
+  std::uint32_t words[4 * 40];
+  double g[16][40];
+  for (std::uint32_t texlet : {0u, 77u, 307199u})
+  {
+    for (int b = 0; b < 4; ++b)
+      normalSamples (5u, texlet, static_cast<std::uint32_t> (b), 3, 40, words, g[4 * b], g[4 * b + 1], g[4 * b + 2],
+                     g[4 * b + 3]);
+    for (int i = 0; i < 40; ++i)
+    {
+      double z[kPcaSampleNormals];
+      pcaSampleNormals (5u, texlet, static_cast<std::uint32_t> (3 + i), z);
+      for (int j = 0; j < kPcaSampleNormals; ++j)
+        ASSERT_EQ (z[j], g[j][i]) << "texlet " << texlet << " sample " << 3 + i;
+    }
+  }
+}
+
+TEST (PcaSampler, KernelEqualsTheSampleBySamplePieces)
+{
+  // The GPU's warp kernel runs the pieces one sample at a time; the host kernel sums in SIMD
+  // lanes and draws in batches. Same samples: equal to summation rounding.
+  std::mt19937 rng (12);
+  for (int trial = 0; trial < 20; ++trial)
+  {
+    Patch patch (rng, 0.7 + 0.1 * trial, trial % 2 ? 0.0 : 15.0, 1.5e-3, trial % 3 == 0 ? 8 : 0);
+    std::vector<unsigned char> mask (patch.nb.count);
+    for (int k = 0; k < patch.nb.count; ++k)
+      mask[k] = k >= (trial % 3 == 0 ? 8 : 0);
+    const MeasuredFit m (patch.nb, mask.data ());
+    ASSERT_TRUE (m.ok);
+    const int samples = 50 + trial;
+    double cov_p[6], cov_n[3];
+    monteCarloPcaCovariance (patch.nb, mask.data (), m.fit, samples, 3u, 500u + trial, m.N, m.t1, m.t2, cov_p, cov_n);
+
+    const Vec3<double> axes[3] = {m.fit.N, m.fit.e1, m.fit.e2};
+    const double P0b[3] = {dot (axes[0], m.fit.P), dot (axes[1], m.fit.P), dot (axes[2], m.fit.P)};
+    PcaModelSums<double> sums;
+    sums.reset ();
+    int n = 0;
+    for (int k = 0; k < patch.nb.count; ++k)
+    {
+      double q[3], a[3];
+      pcaModelPoint (patch.nb, mask.data (), k, m.fit.P, axes, P0b, q, a);
+      sums.add (q, a);
+      n += mask[k];
+    }
+    PcaSampleModel<double> md;
+    preparePcaSampleModel (sums, n, m.fit, m.N, m.t1, m.t2, md);
+    SampleCovariance<double> acc;
+    acc.reset ();
+    for (int s = 0; s < samples; ++s)
+    {
+      double z[kPcaSampleNormals], a1, a2;
+      Vec3<double> dP;
+      pcaSampleNormals (3u, 500u + trial, static_cast<std::uint32_t> (s), z);
+      if (pcaSampleRefit (md, z, dP, a1, a2))
+        acc.add (dP, a1, a2);
+    }
+    EXPECT_EQ (acc.n, samples);
+    double ref_p[6], ref_n[3];
+    acc.finish (ref_p, ref_n);
+    for (int i = 0; i < 6; ++i)
+      EXPECT_NEAR (cov_p[i], ref_p[i], 1e-8 * std::sqrt (ref_p[0] * ref_p[0] + ref_p[3] * ref_p[3] + ref_p[5] * ref_p[5]));
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR (cov_n[i], ref_n[i], 1e-8 * (ref_n[0] + ref_n[2]));
+  }
+}
+
+namespace
+{
+
+/** Covariances from \a samples draws of the new and of the per-point sampler, and the largest
+  * difference in units of its Monte Carlo standard error: for a sample covariance of N
+  * Gaussian draws, SE(c_ij) = sqrt((c_ii c_jj + c_ij^2) / (N - 1)); the two estimates are
+  * independent, so their difference has sqrt(2) times that.
+  */
+void
+compareSamplers (const Patch &patch, const unsigned char *mask, int samples, std::uint32_t texlet, double bias,
+                 double &worst_p, double &worst_n, double cov_n_out[3])
+{
+  const MeasuredFit m (patch.nb, mask);
+  ASSERT_TRUE (m.ok);
+  const bool ring_use[7] = {true, true, true, true, true, true, true};
+  std::vector<double> work (texletWorkSize (patch.nb.count));
+  double new_p[6], new_n[3], ref_p[6], ref_n[3];
+  monteCarloPcaCovariance (patch.nb, mask, m.fit, samples, 17u, texlet, m.N, m.t1, m.t2, new_p, new_n);
+  monteCarloCovariance (patch.nb, mask, ring_use, PlaneFitMethod::PCA, samples, 17u, texlet, m.fit.P, m.N, m.t1, m.t2,
+                        work.data (), ref_p, ref_n);
+  const auto se = [samples] (double cii, double cjj, double cij) {
+    return std::sqrt (2.0 * (cii * cjj + cij * cij) / (samples - 1));
+  };
+  // Where the noise is large against the patch, the normal's covariance may differ by a
+  // fraction \a bias of sqrt(c_ii c_jj) on top of the Monte Carlo error (see the test).
+  const auto allowed_n = [&] (double cii, double cjj, double cij) {
+    return se (cii, cjj, cij) + bias / 5.0 * std::sqrt (cii * cjj);
+  };
+  worst_p = worst_n = 0;
+  for (int i = 0, k = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j, ++k)
+    {
+      const double cii = ref_p[packedIndex<3> (i, i)], cjj = ref_p[packedIndex<3> (j, j)];
+      worst_p = std::max (worst_p, std::fabs (new_p[k] - ref_p[k]) / se (cii, cjj, ref_p[k]));
+    }
+  const int nd[3][2] = {{0, 0}, {0, 2}, {2, 2}};
+  for (int k = 0; k < 3; ++k)
+    worst_n = std::max (worst_n, std::fabs (new_n[k] - ref_n[k]) / allowed_n (ref_n[nd[k][0]], ref_n[nd[k][1]], ref_n[k]));
+  for (int k = 0; k < 3; ++k)
+    cov_n_out[k] = new_n[k];
+}
+
+} // namespace
+
+TEST (PcaSampler, CovariancesAgreeWithThePerPointSamplerWithinMonteCarloError)
+{
+  // 20000 samples of each sampler on planar and curved patches (radius 6 pixels) from 0.8 to
+  // 4 m with the paper's noise (1.5e-3 z^2 m), and at 0.8 m with 4x that. Tolerance: 5
+  // standard errors of the difference (see compareSamplers), about 7 % of a variance. Where
+  // the depth SD reaches a third of the patch's radius or more (paper noise from about 3 m
+  // on, or 4x noise), the sigma^2 term, the only one whose law differs, is no longer small:
+  // there a bias of up to 10 % of sqrt(c_ii c_jj) in the normal's covariance is allowed on
+  // top (measured: up to 7 %, 4 m curved). The centre's covariance is exact in law at any
+  // noise (it is the linear part only) and keeps the 5-SE tolerance everywhere.
+  std::mt19937 rng (31);
+  const int samples = 20000;
+  struct Case
+  {
+    double depth, curvature, sd_scale, bias;
+  };
+  const Case cases[] = {{0.8, 0.0, 1.5e-3, 0.0}, {0.8, 40.0, 1.5e-3, 0.0}, {1.5, 0.0, 1.5e-3, 0.0},
+                        {1.5, 20.0, 1.5e-3, 0.0}, {2.5, 0.0, 1.5e-3, 0.0}, {2.5, 10.0, 1.5e-3, 0.0},
+                        {4.0, 0.0, 1.5e-3, 0.1},  {4.0, 8.0, 1.5e-3, 0.1},  {0.8, 0.0, 6e-3, 0.1},
+                        {0.8, 40.0, 6e-3, 0.1}};
+  int patches = 0;
+  for (const Case &c : cases)
+  {
+    Patch patch (rng, c.depth, c.curvature, c.sd_scale, 6);
+    std::vector<unsigned char> mask (patch.nb.count);
+    for (int k = 0; k < patch.nb.count; ++k)
+      mask[k] = k >= 6; // the pushed-off points are outliers
+    double worst_p, worst_n, cov_n[3];
+    compareSamplers (patch, mask.data (), samples, 900u + patches, c.bias, worst_p, worst_n, cov_n);
+    EXPECT_LT (worst_p, 5.0) << "depth " << c.depth << " curvature " << c.curvature << " sd " << c.sd_scale;
+    EXPECT_LT (worst_n, 5.0) << "depth " << c.depth << " curvature " << c.curvature << " sd " << c.sd_scale;
+    EXPECT_GT (cov_n[0], 0.0);
+    ++patches;
+  }
+}
+
+TEST (PcaSampler, DegenerateNeighbourhoodsGiveNaNNotACrash)
+{
+  std::mt19937 rng (2);
+  Patch patch (rng, 1.0, 0.0, 1.5e-3);
+  std::vector<unsigned char> mask (patch.nb.count, 1);
+  const MeasuredFit m (patch.nb, mask.data ());
+  ASSERT_TRUE (m.ok);
+  double cov_p[6], cov_n[3];
+  // Fewer than three inliers.
+  std::vector<unsigned char> two (patch.nb.count, 0);
+  two[0] = two[5] = 1;
+  monteCarloPcaCovariance (patch.nb, two.data (), m.fit, 50, 1u, 1u, m.N, m.t1, m.t2, cov_p, cov_n);
+  for (double v : cov_p)
+    EXPECT_TRUE (std::isnan (v));
+  for (double v : cov_n)
+    EXPECT_TRUE (std::isnan (v));
+  // Collinear inliers without noise: no sample has a plane, as with the per-point sampler.
+  Patch line = patch;
+  for (int k = 0; k < line.nb.count; ++k)
+  {
+    line.x[k] = 0.01 * k / line.nb.count;
+    line.y[k] = 0.5 * line.x[k];
+    line.z[k] = 1.0 + 0.2 * line.x[k];
+    line.sigma[k] = 0.0;
+  }
+  line.bind ();
+  const bool ring_use[7] = {true, true, true, true, true, true, true};
+  std::vector<double> work (texletWorkSize (line.nb.count));
+  double ref_p[6], ref_n[3];
+  monteCarloPcaCovariance (line.nb, mask.data (), m.fit, 50, 1u, 1u, m.N, m.t1, m.t2, cov_p, cov_n);
+  monteCarloCovariance (line.nb, mask.data (), ring_use, PlaneFitMethod::PCA, 50, 1u, 1u, m.fit.P, m.N, m.t1, m.t2,
+                        work.data (), ref_p, ref_n);
+  for (int i = 0; i < 3; ++i)
+  {
+    EXPECT_TRUE (std::isnan (cov_n[i]));
+    EXPECT_TRUE (std::isnan (ref_n[i]));
+  }
+  // Noise-free planar inliers: every sample is the measured plane, zero covariances.
+  Patch still = patch;
+  for (double &s : still.sigma)
+    s = 0.0;
+  still.bind ();
+  monteCarloPcaCovariance (still.nb, mask.data (), m.fit, 50, 1u, 1u, m.N, m.t1, m.t2, cov_p, cov_n);
+  for (double v : cov_p)
+    EXPECT_NEAR (v, 0.0, 1e-20);
+  for (double v : cov_n)
+    EXPECT_NEAR (v, 0.0, 1e-20);
+}
