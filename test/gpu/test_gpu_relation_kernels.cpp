@@ -14,6 +14,8 @@
 #include <pcl_texlet/gpu/texlet_relations.h>
 #include <pcl_texlet/kernels/relation_histogram.h>
 
+#include "relation_compare.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -55,41 +57,6 @@ struct Counts
   }
 };
 
-std::uint64_t
-borderline (const kn::RelationInput<float> &in, const kn::RelationConfig &config)
-{
-  std::vector<double> edges; // 0 and 180 degrees are no edges: they fall in the end bins
-  for (int b = 1; b < config.axes.angle_bins; ++b)
-    edges.push_back (b * (180.0 / config.axes.angle_bins));
-  for (int b = 0; b < config.box_count; ++b)
-  {
-    edges.push_back (config.boxes[b].angle_deg - config.boxes[b].angle_tol_deg);
-    edges.push_back (config.boxes[b].angle_deg + config.boxes[b].angle_tol_deg);
-  }
-  std::uint64_t n = 0;
-  for (int i = 0; i < in.count; ++i)
-    for (int j = i + 1; j < in.count; ++j)
-    {
-      const double a = kn::texletRelation (in.centre[i], in.normal[i], in.centre[j], in.normal[j]).angle_deg;
-      for (double e : edges)
-        if (std::fabs (a - e) <= 1e-4)
-        {
-          n += 2;
-          break;
-        }
-    }
-  return n;
-}
-
-std::uint64_t
-difference (const std::vector<std::uint64_t> &a, const std::vector<std::uint64_t> &b)
-{
-  std::uint64_t d = 0;
-  for (std::size_t k = 0; k < a.size (); ++k)
-    d += a[k] > b[k] ? a[k] - b[k] : b[k] - a[k];
-  return d;
-}
-
 void
 compareWithCpu (const Texlets &t, bool labelled, const kn::HistogramAxes &axes)
 {
@@ -105,15 +72,15 @@ compareWithCpu (const Texlets &t, bool labelled, const kn::HistogramAxes &axes)
   for (int i = 0; i < in.count; ++i)
     kn::accumulateRelationRow (i, in, config, cpu.c);
   pcl::gpu::accumulateRelations (in, config, gpu.c);
-  const std::uint64_t edge = borderline (in, config);
+  const std::uint64_t edge = pcl_texlet_test::borderlineRelations (in, config);
 
   EXPECT_EQ (gpu.c.relations, cpu.c.relations);
   EXPECT_EQ (gpu.c.relations, std::uint64_t (in.count) * (in.count - 1));
   EXPECT_EQ (gpu.c.outside_histogram, cpu.c.outside_histogram);
   EXPECT_EQ (gpu.label_pairs, cpu.label_pairs);
-  EXPECT_LE (difference (gpu.histogram, cpu.histogram), 2 * edge) << edge << " borderline relations";
-  EXPECT_LE (difference (gpu.box_hits, cpu.box_hits), 2 * edge);
-  EXPECT_LE (difference (gpu.label_inliers, cpu.label_inliers), 2 * edge);
+  EXPECT_LE (pcl_texlet_test::absoluteDifference (gpu.histogram, cpu.histogram), 2 * edge) << edge << " borderline relations";
+  EXPECT_LE (pcl_texlet_test::absoluteDifference (gpu.box_hits, cpu.box_hits), 2 * edge);
+  EXPECT_LE (pcl_texlet_test::absoluteDifference (gpu.label_inliers, cpu.label_inliers), 2 * edge);
   EXPECT_LE (gpu.c.inliers > cpu.c.inliers ? gpu.c.inliers - cpu.c.inliers : cpu.c.inliers - gpu.c.inliers, edge);
   EXPECT_LE (edge, cpu.c.relations / 100) << "borderline relations should be rare";
   EXPECT_GT (cpu.c.inliers, cpu.c.relations / 4) << "a box's texlets are mostly inliers";

@@ -17,6 +17,8 @@
 #include <pcl_texlet/gpu/containers/cuda_error.h>
 #include <pcl_texlet/gpu/texlet_relations.h>
 
+#include "relation_compare.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -28,44 +30,8 @@ using namespace pcl::texlet;
 namespace
 {
 
-/** Directed relations whose angle lies within \a tol_deg of an angle bin edge or a box's
-  * angle edge (both directions of a pair share the angle, so pairs count twice).
-  */
-std::uint64_t
-borderlineRelations (const kn::RelationInput<float> &in, const kn::RelationConfig &config, double tol_deg = 1e-4)
-{
-  // (0 and 180 degrees are no edges: relationBin puts them in the first and the last bin.)
-  std::vector<double> edges;
-  for (int b = 1; b < config.axes.angle_bins; ++b)
-    edges.push_back (b * (180.0 / config.axes.angle_bins));
-  for (int b = 0; b < config.box_count; ++b)
-  {
-    edges.push_back (config.boxes[b].angle_deg - config.boxes[b].angle_tol_deg);
-    edges.push_back (config.boxes[b].angle_deg + config.boxes[b].angle_tol_deg);
-  }
-  std::uint64_t n = 0;
-  for (int i = 0; i < in.count; ++i)
-    for (int j = i + 1; j < in.count; ++j)
-    {
-      const double a = kn::texletRelation (in.centre[i], in.normal[i], in.centre[j], in.normal[j]).angle_deg;
-      for (const double e : edges)
-        if (std::fabs (a - e) <= tol_deg)
-        {
-          n += 2;
-          break;
-        }
-    }
-  return n;
-}
-
-std::uint64_t
-absoluteDifference (const std::vector<std::uint64_t> &a, const std::vector<std::uint64_t> &b)
-{
-  std::uint64_t d = 0;
-  for (std::size_t k = 0; k < a.size (); ++k)
-    d += a[k] > b[k] ? a[k] - b[k] : b[k] - a[k];
-  return d;
-}
+using pcl_texlet_test::absoluteDifference;
+using pcl_texlet_test::borderlineRelations;
 
 struct Comparison
 {
