@@ -43,25 +43,35 @@ randomTexlets (int n)
   return cloud;
 }
 
+/** Times accumulateRelations () over \a n random texlets against the paper's box, with six labels
+  * cycled over the texlets when \a labelled. One untimed call first: on the GPU backend it pays
+  * for the CUDA context and the module load.
+  */
 void
-BM_AllPairRelations (benchmark::State &state)
+timeAllPairRelations (benchmark::State &state, int n, const pcl::texlet::RelationParameters &params, bool labelled)
 {
-  const int n = static_cast<int> (state.range (0));
   const auto cloud = randomTexlets (n);
   const pcl::texlet::KnownObject box = pcl::texlet::paperBoxObject ();
-  std::vector<int> labels (cloud.size ());
-  for (std::size_t i = 0; i < labels.size (); ++i)
-    labels[i] = static_cast<int> (i % 6);
-  pcl::texlet::RelationParameters params;
-  params.threads = static_cast<unsigned> (state.range (1));
-  const bool labelled = state.range (2) != 0;
+  std::vector<int> labels; // empty: unlabelled
+  if (labelled)
+    for (std::size_t i = 0; i < cloud.size (); ++i)
+      labels.push_back (static_cast<int> (i % 6));
+  pcl::texlet::accumulateRelations (randomTexlets (100), box, params);
   for (auto _ : state)
   {
-    const auto s = pcl::texlet::accumulateRelations (cloud, box, params, labelled ? labels : std::vector<int> ());
+    const auto s = pcl::texlet::accumulateRelations (cloud, box, params, labels);
     benchmark::DoNotOptimize (s.inliers);
   }
   state.SetItemsProcessed (state.iterations () * static_cast<std::int64_t> (n) * (n - 1));
   state.counters["texlets"] = n;
+}
+
+void
+BM_AllPairRelations (benchmark::State &state)
+{
+  pcl::texlet::RelationParameters params;
+  params.threads = static_cast<unsigned> (state.range (1));
+  timeAllPairRelations (state, static_cast<int> (state.range (0)), params, state.range (2) != 0);
   state.counters["threads"] = static_cast<double> (params.threads);
 }
 
@@ -74,23 +84,9 @@ BM_AllPairRelationsGpu (benchmark::State &state)
     state.SkipWithError ("no CUDA device");
     return;
   }
-  const int n = static_cast<int> (state.range (0));
-  const auto cloud = randomTexlets (n);
-  const pcl::texlet::KnownObject box = pcl::texlet::paperBoxObject ();
-  std::vector<int> labels (cloud.size ());
-  for (std::size_t i = 0; i < labels.size (); ++i)
-    labels[i] = static_cast<int> (i % 6);
   pcl::texlet::RelationParameters params;
   params.backend = [] (const auto &in, const auto &config, auto &counts) { pcl::gpu::accumulateRelations (in, config, counts); };
-  const bool labelled = state.range (1) != 0;
-  pcl::texlet::accumulateRelations (randomTexlets (100), box, params); // CUDA context and module load, untimed
-  for (auto _ : state)
-  {
-    const auto s = pcl::texlet::accumulateRelations (cloud, box, params, labelled ? labels : std::vector<int> ());
-    benchmark::DoNotOptimize (s.inliers);
-  }
-  state.SetItemsProcessed (state.iterations () * static_cast<std::int64_t> (n) * (n - 1));
-  state.counters["texlets"] = n;
+  timeAllPairRelations (state, static_cast<int> (state.range (0)), params, state.range (1) != 0);
 }
 #endif
 
