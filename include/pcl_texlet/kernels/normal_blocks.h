@@ -271,6 +271,18 @@ boxMullerFloat8 (__m256i u0, __m256i u1, __m256 &x, __m256 &y)
   y = mul (_mm256_xor_ps (cq, sign_c), r);
 }
 
+/** \brief The normals of Philox blocks b .. b + 7 whose words are w0[] .. w3[]: x0, y0 from
+  * (w0, w1) and x1, y1 from (w2, w3), one lane per block.
+  */
+inline void
+boxMullerBlocks8 (const std::uint32_t *w0, const std::uint32_t *w1, const std::uint32_t *w2, const std::uint32_t *w3,
+                  int b, __m256 &x0, __m256 &y0, __m256 &x1, __m256 &y1)
+{
+  const auto load = [b] (const std::uint32_t *w) { return _mm256_loadu_si256 (reinterpret_cast<const __m256i *> (w + b)); };
+  boxMullerFloat8 (load (w0), load (w1), x0, y0);
+  boxMullerFloat8 (load (w2), load (w3), x1, y1);
+}
+
 /** \brief Stores the normals of one Philox block (four floats) at \a g. */
 inline void
 storeNormalQuad (__m128 v, float *g)
@@ -297,12 +309,8 @@ boxMullerWords (const std::uint32_t *w0, const std::uint32_t *w1, const std::uin
 #if defined(PCL_TEXLET_AVX2_KERNELS)
   for (; b + 8 <= n; b += 8)
   {
-    const auto load = [b] (const std::uint32_t *w) {
-      return _mm256_loadu_si256 (reinterpret_cast<const __m256i *> (w + b));
-    };
     __m256 x0, y0, x1, y1;
-    boxMullerFloat8 (load (w0), load (w1), x0, y0);
-    boxMullerFloat8 (load (w2), load (w3), x1, y1);
+    boxMullerBlocks8 (w0, w1, w2, w3, b, x0, y0, x1, y1);
     // Interleave to g[4 b + i]: each 128-bit quarter below is one block's (x0, y0, x1, y1).
     const __m256 lo0 = _mm256_unpacklo_ps (x0, y0), hi0 = _mm256_unpackhi_ps (x0, y0);
     const __m256 lo1 = _mm256_unpacklo_ps (x1, y1), hi1 = _mm256_unpackhi_ps (x1, y1);
@@ -371,12 +379,8 @@ boxMullerWordsSoA (const std::uint32_t *w0, const std::uint32_t *w1, const std::
 #if defined(PCL_TEXLET_AVX2_KERNELS)
   for (; b + 8 <= n; b += 8)
   {
-    const auto load = [b] (const std::uint32_t *w) {
-      return _mm256_loadu_si256 (reinterpret_cast<const __m256i *> (w + b));
-    };
     __m256 x0, y0, x1, y1;
-    boxMullerFloat8 (load (w0), load (w1), x0, y0);
-    boxMullerFloat8 (load (w2), load (w3), x1, y1);
+    boxMullerBlocks8 (w0, w1, w2, w3, b, x0, y0, x1, y1);
     storeNormals8 (x0, g0 + b);
     storeNormals8 (y0, g1 + b);
     storeNormals8 (x1, g2 + b);
