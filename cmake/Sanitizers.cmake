@@ -22,6 +22,13 @@ if(PCL_TEXLET_SANITIZE OR PCL_TEXLET_FUZZ)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
+# Extra compile options for the library alone (appended after CMAKE_CXX_FLAGS_<CONFIG>, so an -O
+# here wins). The sanitizer run (scripts/run_sanitizer_tests.sh) compiles everything at -Og, which
+# halves the compile of the PCL-heavy apps and tests, and the library, where the tests spend their
+# time, at -O2.
+set(PCL_TEXLET_LIBRARY_COMPILE_OPTIONS "" CACHE STRING
+  "Extra compile options for the pcl_texlet library only (the sanitizer build: -O2)")
+
 if(PCL_TEXLET_FUZZ)
   if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
     message(FATAL_ERROR "PCL_TEXLET_FUZZ needs clang (libFuzzer): configure with -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang")
