@@ -117,8 +117,9 @@ bilinearGrid (const double *nodes, int nodes_x, int nodes_y, double width, doubl
          weight[3] * nodes[index[3]];
 }
 
-/** \brief quantizedMoments by summing the levels within 7 SDs of \a d0 (exact to about 1e-12;
-  * the cost grows with sigma / step: one erf per level). For sigma below step / 2.
+/** \brief quantizedMoments by summing the levels within 7 SDs of \a d0 (the 2.6e-12 of the
+  * probability beyond is up to 1e-10 of the variance; the cost grows with sigma / step: one erf
+  * per level). For sigma below step / 2.
   */
 PCL_TEXLET_HD void
 quantizedMomentsByLevels (double d0, double sigma, double step, double &mean_offset, double &variance)
@@ -200,7 +201,7 @@ quantizedMomentsByHarmonics (double d0, double sigma, double step, double &mean_
   * between two) and the mean follows a staircase; with more noise both tend to Sheppard's
   * sigma^2 + step^2 / 12 and no bias. Below step / 2 the levels are summed
   * (quantizedMomentsByLevels), from there on the series converges in three harmonics
-  * (quantizedMomentsByHarmonics); the two agree to about 1e-12 where both apply.
+  * (quantizedMomentsByHarmonics); the two agree to about 1e-10 where both apply.
   */
 PCL_TEXLET_HD void
 quantizedMoments (double d0, double sigma, double step, double &mean_offset, double &variance)
