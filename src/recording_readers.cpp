@@ -38,6 +38,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
+#include <thread>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -655,6 +656,12 @@ GrabberTiffReader::isGrabberTiffFolder (const std::string &folder)
 
 #ifdef HAVE_OPENNI2
 
+/** \brief How long OpenNI2's file player gets, once every stream of a file is stopped, to finish
+  * a walk of its stream list in which it may have been preempted (several scheduling periods of a
+  * loaded machine; the player itself turns every 10 ms).
+  */
+constexpr std::chrono::milliseconds kOniFilePlayerSettle {50};
+
 /** \brief The grabber, the reader's own handle on its device and streams, and the queue between. */
 struct OniReader::Playback
 {
@@ -678,13 +685,21 @@ struct OniReader::Playback
       catch (...)
       {} // nothing to report from a destructor; the streams are destroyed below either way
     }
-    // Every stream stopped before any is destroyed: OpenNI2's player thread walks its list of
-    // streams without its lock, and at the end of a file (repeat off) it does so in a busy loop
-    // while any stream is started; with none started it sleeps 10 ms a turn. (gdb: the player
-    // thread crashed in that walk while a stream was destroyed, 1 of 5 runs under load.)
+    // Every stream stopped, and the player given time to finish a walk, before any is destroyed.
+    // OpenNI2's player thread walks its list of streams without its lock, and destroying the
+    // last stream of a sensor unlinks and frees its entry, also without the lock. At the end of a
+    // file (repeat off) the player walks in a busy loop while any stream is started; preempted
+    // in that walk, it resumed on freed memory once the streams were gone (core dumps: the
+    // player faulting in the walk while this thread waited in PlayerDevice::close for it to
+    // exit; 3 of 30 runs of the round-trip tests under load). With no stream started it walks
+    // once per 10 ms, right after waking, and sleeps in between; the pause below lets a walk
+    // that was preempted before the streams stopped run to its end first. (Repeat on would park
+    // the player instead, but its rewind rewrites the file's stream properties, freeing the old
+    // values while the grabber's callback reads them: a crash in getDepthFocalLength, 1 of 60.)
     for (openni::VideoStream *stream : {&depth, &colour, &ir})
       if (stream->isValid ())
         stream->stop ();
+    std::this_thread::sleep_for (kOniFilePlayerSettle);
     for (openni::VideoStream *stream : {&depth, &colour, &ir})
       if (stream->isValid ())
         stream->destroy ();
