@@ -178,12 +178,17 @@ run (int argc, char **argv)
                 << frame.getWidth () << "x" << frame.getHeight () << std::endl;
   }
   const bool had_colour = colour.isValid ();
-  // Stopping and destroying the recorder writes the frame count and seek table.
-  recorder.stop ();
-  recorder.destroy ();
+  // The streams stop first. libOpenNI2 hands a frame to the recorder on the device's frame thread
+  // holding the stream's recorder lock, and then takes the recorder's stream lock; destroying the
+  // recorder takes those two the other way round. A frame in flight then can deadlock both (the
+  // recorder's thread holds its stream lock while it writes). A stopped stream of a device whose
+  // stop waits for the frame it is handing out (the simulated device's does) has none in flight.
   depth.stop ();
   if (colour.isValid ())
     colour.stop ();
+  // Stopping and destroying the recorder writes the frame count and seek table.
+  recorder.stop ();
+  recorder.destroy ();
   depth.destroy ();
   if (colour.isValid ())
     colour.destroy ();
