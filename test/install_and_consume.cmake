@@ -1,5 +1,5 @@
 # Installs the build tree into a fresh prefix, then configures, builds and runs the consumer
-# project against it. Run by CTest: cmake -DBUILD_DIR=.. -DCONSUMER_DIR=.. -DWORK_DIR=.. -P this
+# project against it. Run by CTest: cmake -DBUILD_DIR=.. -DCONSUMER_DIR=.. -DWORK_DIR=.. -DEXPECT_GPU=ON|OFF -P this
 file(REMOVE_RECURSE ${WORK_DIR})
 function(step)
   execute_process(COMMAND ${ARGV} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -15,5 +15,16 @@ execute_process(COMMAND ${WORK_DIR}/build/consumer RESULT_VARIABLE rc OUTPUT_VAR
 message(STATUS "${out}${err}")
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "the consumer failed (${rc})")
+endif()
+# The CUDA backend's consumer: a build with CUDA (EXPECT_GPU) must have installed the GPU targets.
+if(EXPECT_GPU AND NOT EXISTS ${WORK_DIR}/build/consumer_gpu)
+  message(FATAL_ERROR "pcl_texlet was built with CUDA, but its installed package has no pcl_texlet::pcl_texlet_gpu_pcl")
+endif()
+if(EXPECT_GPU)
+  execute_process(COMMAND ${WORK_DIR}/build/consumer_gpu RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  message(STATUS "${out}${err}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "the GPU consumer failed (${rc})")
+  endif()
 endif()
 file(REMOVE_RECURSE ${WORK_DIR})
