@@ -11,14 +11,9 @@
 
 #include <pcl_texlet/texlet_estimation.h>
 
-#include <pcl/console/print.h>
-#include <pcl/filters/filter.h>
-#include <pcl/visualization/pcl_visualizer.h>
-
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
-#include <iostream>
 
 namespace fs = std::filesystem;
 using namespace pcl_texlet_viewer;
