@@ -10,7 +10,8 @@
 #
 # Two busy loops run beside, one per core of the 2-core CI machine. Crashed runs keep their
 # output and core file in a temporary folder, named at the end. Needs root, as the tests do (the
-# driver is bound over OpenNI2's driver folder in a private mount namespace).
+# driver is bound over OpenNI2's driver folder in a private mount namespace; record mode does it
+# with tools/oni_from_tiffs/make_oni.sh).
 set -uo pipefail
 if [ $# -lt 3 ] || { [ "$2" != playback ] && [ "$2" != record ]; }; then
   echo "usage: $0 BUILD_DIR playback|record RUNS [GTEST_FILTER]" >&2
@@ -28,12 +29,6 @@ ulimit -c unlimited
 ( while :; do :; done ) & busy2=$!
 trap 'kill $busy1 $busy2 2>/dev/null' EXIT
 
-if [ "$mode" = record ]; then
-  mkdir -p "$work/drivers"
-  cp "$build/src/openni2_driver/libPclTexletDevice.so.0" "$work/drivers/"
-  cp /usr/lib/x86_64-linux-gnu/OpenNI2/Drivers/libOniFile.so.0 "$work/drivers/"
-fi
-
 ok=0; crashed=0; hung=0; failed=0
 for i in $(seq 1 "$runs"); do
   mkdir -p "$work/run$i"
@@ -41,10 +36,9 @@ for i in $(seq 1 "$runs"); do
     (cd "$work/run$i" && GLIBC_TUNABLES=glibc.pthread.stack_cache_size=1073741824 \
       timeout -s KILL 300 "$build/test/test_openni2_device" --gtest_filter="$filter" > log 2>&1)
   else
-    uri="pcltexlet:recording=$repo/data/kinect/grabber_sequence;loop=0"
-    (cd "$work/run$i" && unshare -m bash -c "mount --make-rprivate / &&
-      mount --bind '$work/drivers' /usr/lib/x86_64-linux-gnu/OpenNI2/Drivers &&
-      exec timeout -s KILL 60 '$build/apps/pcl_texlet_record/pcl_texlet_record' -q -d '$uri' -n 3 out.oni" > log 2>&1)
+    # make_oni.sh binds the built driver in a private mount namespace; timeout kills its group.
+    (cd "$work/run$i" && timeout -s KILL 60 "$repo/tools/oni_from_tiffs/make_oni.sh" "$build" \
+      "pcltexlet:recording=$repo/data/kinect/grabber_sequence;loop=0" 3 out.oni -q > log 2>&1)
   fi
   rc=$?
   case $rc in
