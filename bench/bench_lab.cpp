@@ -8,9 +8,9 @@
  *   bench_lab --benchmark_filter=Lab
  */
 #include <pcl_texlet/lab/model_lab.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
-#include <pcl_texlet/simulator/simulated_recording.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
+#include <pcl_texlet/simulation/simulated_recording.h>
 
 #include <benchmark/benchmark.h>
 

@@ -16,7 +16,7 @@
  */
 #include "../src/openni2_driver/frame_source.h"
 
-#include <pcl_texlet/simulator/effects.h>
+#include <pcl_texlet/simulation/effects.h>
 
 #include <OpenNI.h>
 

@@ -8,7 +8,7 @@
  *
  *   build/bench/bench_relations --benchmark_filter='/30000/'
  */
-#include <pcl_texlet/multi_sensor/texlet_relations.h>
+#include <pcl_texlet/relations/texlet_relations.h>
 
 #ifdef PCL_TEXLET_BENCH_WITH_GPU
 #include <pcl_texlet/gpu/containers/cuda_error.h>

@@ -5,9 +5,9 @@
  *
  *   bench_simulator --benchmark_filter=Recording
  */
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
-#include <pcl_texlet/simulator/simulated_recording.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
+#include <pcl_texlet/simulation/simulated_recording.h>
 
 #include <benchmark/benchmark.h>
 

@@ -10,7 +10,7 @@
  * Args of BM_NormalEstimationOMP: threads. Compare medians of one run (the machine may be shared);
  * the CPU column is the CPU time of all threads of the process.
  */
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/features/normal_3d_omp.h>
 #include <pcl/io/pcd_io.h>

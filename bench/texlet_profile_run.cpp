@@ -11,7 +11,7 @@
  *
  * method: none | analytic | mc. Exit code 2 and one line on stderr for bad arguments or files.
  */
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>

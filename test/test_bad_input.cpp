@@ -3,13 +3,13 @@
  * other test covers: empty files, NaN and infinite numbers, absurd sizes, and the bad-frame
  * policy (FrameSkippingReader). Each must be an exception naming the input and the problem.
  */
-#include <pcl_texlet/frame_skipping_reader.h>
-#include <pcl_texlet/multi_sensor/extrinsics.h>
-#include <pcl_texlet/noise_model_io.h>
-#include <pcl_texlet/recording.h>
-#include <pcl_texlet/recording_readers.h>
-#include <pcl_texlet/recording_writer.h>
-#include <pcl_texlet/texlet_parameters.h>
+#include <pcl_texlet/io/frame_skipping_reader.h>
+#include <pcl_texlet/relations/extrinsics.h>
+#include <pcl_texlet/io/noise_model_io.h>
+#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/recording_writer.h>
+#include <pcl_texlet/features/texlet_parameters.h>
 
 #include <pcl/exceptions.h>
 

@@ -6,8 +6,8 @@
  */
 #include "support/synthetic_scene.h"
 
-#include <pcl_texlet/openni_fov_model.h>
-#include <pcl_texlet/pinhole_model.h>
+#include <pcl_texlet/camera/openni_fov_model.h>
+#include <pcl_texlet/camera/pinhole_model.h>
 
 #include <pcl/exceptions.h>
 

@@ -3,8 +3,8 @@
  * (exit code 2, one line on stderr, no output file left behind).
  */
 #include <pcl_texlet/kernels/hex_grid.h>
-#include <pcl_texlet/point_types.h>
-#include <pcl_texlet/recording.h>
+#include <pcl_texlet/features/point_types.h>
+#include <pcl_texlet/io/recording.h>
 
 #include <pcl/io/pcd_io.h>
 

@@ -3,9 +3,9 @@
  * the minimised crashing input (also kept in the target's corpus), and each test checks the
  * documented failure, a pcl::PCLException naming the input and the problem, or the right result.
  */
-#include <pcl_texlet/noise_model_io.h>
-#include <pcl_texlet/recording.h>
-#include <pcl_texlet/simulator/simulation_config.h>
+#include <pcl_texlet/io/noise_model_io.h>
+#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/simulation/simulation_config.h>
 
 #include <pcl/exceptions.h>
 

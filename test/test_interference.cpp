@@ -8,7 +8,7 @@
  *    much less (the discussion of Fig. 11i).
  * Full VGA images as in the paper, one frame per sensor, spacing 4 px, fixed seeds.
  */
-#include <pcl_texlet/multi_sensor/interference_study.h>
+#include "interference_study.h"
 
 #include <pcl/exceptions.h>
 

@@ -3,7 +3,7 @@
  * report; recordings written by pcl_texlet_sim read back with meta.yaml poses or an extrinsics
  * file; bad input (exit code 2, one line on stderr, no output left behind).
  */
-#include <pcl_texlet/multi_sensor/extrinsics.h>
+#include <pcl_texlet/relations/extrinsics.h>
 
 #include <nlohmann/json.hpp>
 

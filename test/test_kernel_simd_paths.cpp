@@ -1,6 +1,6 @@
 /*
  * The kernels' AVX2 paths (built when the compiler targets x86-64-v3, as the library's
- * src/texlet_kernel_x86_64_v3.cpp does) against their scalar definitions, bit for bit: the
+ * src/features/texlet_kernel_x86_64_v3.cpp does) against their scalar definitions, bit for bit: the
  * Philox words of many counters or blocks at once, the Box-Muller normals, and RANSAC's
  * inlier count. This file is compiled twice (test/CMakeLists.txt): for the baseline, where it
  * checks the portable loops, and for x86-64-v3, where it checks the intrinsics.

@@ -5,9 +5,9 @@
  * the error where it shows. With no hidden effect, no candidate may be significant.
  */
 #include <pcl_texlet/lab/model_lab.h>
-#include <pcl_texlet/noise_terms.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
+#include <pcl_texlet/noise/noise_terms.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
 
 #include <gtest/gtest.h>
 

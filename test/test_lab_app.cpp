@@ -3,13 +3,13 @@
  * report's files and keys, the model it writes loaded by pcl_texlet_extract, the real Kinect
  * frames, and bad input (exit 2, one line on stderr).
  */
-#include <pcl_texlet/depth_image.h>
+#include <pcl_texlet/camera/depth_image.h>
 #include <pcl_texlet/lab/recording_measurement.h>
-#include <pcl_texlet/noise_model_io.h>
-#include <pcl_texlet/noise_terms.h>
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/recording_readers.h>
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/io/noise_model_io.h>
+#include <pcl_texlet/noise/noise_terms.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/io/pcd_io.h>
 

@@ -7,15 +7,15 @@
  */
 #include <pcl_texlet/lab/model_lab.h>
 #include <pcl_texlet/lab/texlet_consistency.h>
-#include <pcl_texlet/noise_terms.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
+#include <pcl_texlet/noise/noise_terms.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
 
 #include <gtest/gtest.h>
 
 #include <pcl_texlet/kernels/effect_terms.h>
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/exceptions.h>
 

@@ -1,7 +1,7 @@
 /*
  * The noise model: the paper's polynomial, composition of terms, copies, bad parameters.
  */
-#include <pcl_texlet/noise_model.h>
+#include <pcl_texlet/noise/noise_model.h>
 
 #include <pcl/exceptions.h>
 

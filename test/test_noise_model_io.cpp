@@ -3,8 +3,8 @@
  * and clear errors for bad files.
  */
 #include <pcl_texlet/kernels/effect_terms.h>
-#include <pcl_texlet/noise_model_io.h>
-#include <pcl_texlet/noise_terms.h>
+#include <pcl_texlet/io/noise_model_io.h>
+#include <pcl_texlet/noise/noise_terms.h>
 
 #include <pcl/exceptions.h>
 

@@ -11,17 +11,17 @@
  * libOpenNI2 2.2 itself sometimes deadlocks in its Recorder: every app run is bounded by
  * timeout(1) and recording is retried; every wait for a frame is bounded.
  */
-#include <pcl_texlet/depth_image.h>
-#include <pcl_texlet/guarded_openni2_grabber.h>
-#include <pcl_texlet/openni2_device_reader.h>
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/point_types.h>
-#include <pcl_texlet/recording.h>
-#include <pcl_texlet/recording_readers.h>
-#include <pcl_texlet/simulator/effects.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
-#include <pcl_texlet/simulator/simulated_recording.h>
+#include <pcl_texlet/camera/depth_image.h>
+#include <pcl_texlet/io/guarded_openni2_grabber.h>
+#include <pcl_texlet/io/openni2_device_reader.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/features/point_types.h>
+#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/simulation/effects.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
+#include <pcl_texlet/simulation/simulated_recording.h>
 
 #include <pcl/exceptions.h>
 #include <pcl/io/openni2/openni2_device.h>

@@ -1,7 +1,7 @@
 /*
  * pcl::Texlet in PCD files: exact round trips, NaN texlets, and PCL's own tools.
  */
-#include <pcl_texlet/point_types.h>
+#include <pcl_texlet/features/point_types.h>
 
 #include <pcl/io/pcd_io.h>
 

@@ -4,11 +4,11 @@
  * same depth, .oni playback through OpenNI2Grabber, openRecording's choice, and every kind of bad
  * input rejected with a pcl::IOException that names the file.
  */
-#include <pcl_texlet/recording_readers.h>
-#include <pcl_texlet/recording_writer.h>
-#include <pcl_texlet/simulator/effects.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
+#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/recording_writer.h>
+#include <pcl_texlet/simulation/effects.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
 
 #include <pcl/common/io.h> // pcl::copyPointCloud
 #include <pcl/exceptions.h>

@@ -6,13 +6,13 @@
  */
 #include <pcl_texlet/kernels/relation_histogram.h>
 #include <pcl_texlet/kernels/texlet_relation.h>
-#include <pcl_texlet/multi_sensor/extrinsics.h>
-#include <pcl_texlet/multi_sensor/known_object.h>
-#include <pcl_texlet/multi_sensor/texlet_merge.h>
-#include <pcl_texlet/multi_sensor/texlet_relations.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
-#include <pcl_texlet/simulator/simulation_meta.h>
+#include <pcl_texlet/relations/extrinsics.h>
+#include <pcl_texlet/relations/known_object.h>
+#include <pcl_texlet/relations/texlet_merge.h>
+#include <pcl_texlet/relations/texlet_relations.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
+#include <pcl_texlet/simulation/simulation_meta.h>
 
 #include <pcl/exceptions.h>
 

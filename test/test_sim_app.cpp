@@ -3,7 +3,7 @@
  * same bytes for the same seed, configuration files, and bad input (exit code 2, one line on
  * stderr, no output left behind).
  */
-#include <pcl_texlet/recording.h>
+#include <pcl_texlet/io/recording.h>
 
 #include <pcl/conversions.h>
 #include <pcl/io/ply_io.h>

@@ -7,12 +7,12 @@
  */
 #include <pcl_texlet/kernels/sensor_effects.h>
 #include <pcl_texlet/kernels/structured_light.h>
-#include <pcl_texlet/recording.h>
-#include <pcl_texlet/recording_writer.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
-#include <pcl_texlet/simulator/simulated_recording.h>
-#include <pcl_texlet/simulator/simulation_config.h>
+#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/recording_writer.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
+#include <pcl_texlet/simulation/simulated_recording.h>
+#include <pcl_texlet/simulation/simulation_config.h>
 
 #include <pcl/exceptions.h>
 

@@ -3,11 +3,11 @@
  * PLY and organised PCD files equal to the analytic scenes they describe, the BVH against brute
  * force, effects by name, and YAML configuration with its errors.
  */
-#include <pcl_texlet/simulator/effects.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
-#include <pcl_texlet/simulator/simulation_config.h>
-#include <pcl_texlet/simulator/triangle_mesh.h>
+#include <pcl_texlet/simulation/effects.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
+#include <pcl_texlet/simulation/simulation_config.h>
+#include <pcl_texlet/simulation/triangle_mesh.h>
 
 #include <pcl/conversions.h>
 #include <pcl/exceptions.h>

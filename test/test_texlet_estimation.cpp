@@ -4,9 +4,9 @@
  */
 #include "support/synthetic_scene.h"
 
-#include <pcl_texlet/camera_estimation.h>
+#include <pcl_texlet/camera/camera_estimation.h>
 #include <pcl_texlet/kernels/hex_grid.h>
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/common/io.h>
 

@@ -6,7 +6,7 @@
  */
 #include "support/synthetic_scene.h"
 
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <gtest/gtest.h>
 

@@ -12,7 +12,7 @@
 #include "texlet_backend.h"
 #include "texlet_viewer.h"
 
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/io/pcd_io.h>
 

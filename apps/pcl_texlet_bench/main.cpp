@@ -10,9 +10,9 @@
 #include "methods.h"
 #include "scenes.h"
 
-#include <pcl_texlet/camera_estimation.h>
+#include <pcl_texlet/camera/camera_estimation.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/console/print.h>
 #include <pcl/io/pcd_io.h>

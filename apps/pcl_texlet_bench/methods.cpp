@@ -6,7 +6,7 @@
 
 #include <pcl_texlet/kernels/hex_grid.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/features/integral_image_normal.h>
 #include <pcl/features/normal_3d_omp.h>

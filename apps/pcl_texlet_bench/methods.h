@@ -4,8 +4,8 @@
  */
 #pragma once
 
-#include <pcl_texlet/camera_model.h>
-#include <pcl_texlet/texlet_parameters.h>
+#include <pcl_texlet/camera/camera_model.h>
+#include <pcl_texlet/features/texlet_parameters.h>
 
 #include <pcl/pcl_base.h> // pcl::IndicesPtr
 #include <pcl/point_cloud.h>

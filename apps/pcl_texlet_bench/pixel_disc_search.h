@@ -12,7 +12,7 @@
 #pragma once
 
 #include <pcl_texlet/kernels/pixel_disc.h>
-#include <pcl_texlet/valid_point.h>
+#include <pcl_texlet/camera/valid_point.h>
 
 #include <pcl/exceptions.h>
 #include <pcl/search/search.h>

@@ -3,11 +3,11 @@
  */
 #include "scenes.h"
 
-#include <pcl_texlet/depth_image.h>
+#include <pcl_texlet/camera/depth_image.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
 
 #include <pcl/exceptions.h>
 

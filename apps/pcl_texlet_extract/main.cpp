@@ -7,16 +7,16 @@
  */
 #include "../common/app_main.h"
 #include "../common/folder_guard.h"
-#include <pcl_texlet/frame_skipping_reader.h>
-#include <pcl_texlet/depth_image.h>
+#include <pcl_texlet/io/frame_skipping_reader.h>
+#include <pcl_texlet/camera/depth_image.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/lab/recording_measurement.h>
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/recording.h>
-#include <pcl_texlet/recording_readers.h>
-#include <pcl_texlet/openni2_device_reader.h>
-#include <pcl_texlet/noise_model_io.h>
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/openni2_device_reader.h>
+#include <pcl_texlet/io/noise_model_io.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/console/print.h>
 #include <pcl/io/pcd_io.h>

@@ -16,9 +16,9 @@
 #include "../common/folder_guard.h"
 #include "study_report.h"
 
-#include <pcl_texlet/multi_sensor/extrinsics.h>
-#include <pcl_texlet/multi_sensor/interference_study.h>
-#include <pcl_texlet/multi_sensor/relation_plots.h>
+#include <pcl_texlet/relations/extrinsics.h>
+#include "interference_study.h"
+#include <pcl_texlet/report/relation_plots.h>
 
 #ifdef PCL_TEXLET_INTERFERENCE_WITH_GPU
 #include <pcl_texlet/gpu/containers/cuda_error.h>

@@ -3,7 +3,7 @@
  */
 #pragma once
 
-#include <pcl_texlet/multi_sensor/interference_study.h>
+#include "interference_study.h"
 
 #include <nlohmann/json.hpp>
 

@@ -13,10 +13,10 @@
 #include "../common/app_main.h"
 #include <pcl_texlet/kernels/sensor_effects.h>
 #include <pcl_texlet/kernels/structured_light.h>
-#include <pcl_texlet/noise_model.h>
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
+#include <pcl_texlet/noise/noise_model.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
 
 #include <pcl/console/print.h>
 #include <pcl/exceptions.h>

@@ -9,12 +9,12 @@
  */
 #include "../common/app_main.h"
 #include "../common/folder_guard.h"
-#include <pcl_texlet/simulator/effects.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
-#include <pcl_texlet/simulator/simulated_recording.h>
-#include <pcl_texlet/simulator/simulation_config.h>
-#include <pcl_texlet/simulator/triangle_mesh.h>
+#include <pcl_texlet/simulation/effects.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
+#include <pcl_texlet/simulation/simulated_recording.h>
+#include <pcl_texlet/simulation/simulation_config.h>
+#include <pcl_texlet/simulation/triangle_mesh.h>
 
 #include <pcl/console/print.h>
 #include <pcl/exceptions.h>

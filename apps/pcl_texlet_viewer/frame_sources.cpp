@@ -1,10 +1,10 @@
 #include "frame_sources.h"
 
-#include <pcl_texlet/depth_image.h>
-#include <pcl_texlet/guarded_openni2_grabber.h>
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/recording.h>
-#include <pcl_texlet/recording_readers.h>
+#include <pcl_texlet/camera/depth_image.h>
+#include <pcl_texlet/io/guarded_openni2_grabber.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/recording_readers.h>
 
 #include <pcl/common/io.h> // pcl::copyPointCloud
 #include <pcl/exceptions.h>

@@ -3,8 +3,8 @@
  */
 #pragma once
 
-#include <pcl_texlet/camera_model.h>
-#include <pcl_texlet/point_types.h>
+#include <pcl_texlet/camera/camera_model.h>
+#include <pcl_texlet/features/point_types.h>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>

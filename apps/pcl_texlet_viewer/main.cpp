@@ -9,7 +9,7 @@
 #include "texlet_layers.h"
 #include "texlet_viewer.h"
 
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <CLI/CLI.hpp>
 

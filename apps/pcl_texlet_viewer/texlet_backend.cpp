@@ -1,6 +1,6 @@
 #include "texlet_backend.h"
 
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #ifdef PCL_TEXLET_VIEWER_WITH_GPU
 #include <pcl_texlet/gpu/texlet_estimation_pcl.h>

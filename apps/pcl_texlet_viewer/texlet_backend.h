@@ -2,8 +2,8 @@
 
 #include "frame_sources.h"
 
-#include <pcl_texlet/camera_model.h>
-#include <pcl_texlet/texlet_parameters.h>
+#include <pcl_texlet/camera/camera_model.h>
+#include <pcl_texlet/features/texlet_parameters.h>
 
 #include <string>
 

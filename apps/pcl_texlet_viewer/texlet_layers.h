@@ -3,7 +3,7 @@
  */
 #pragma once
 
-#include <pcl_texlet/point_types.h>
+#include <pcl_texlet/features/point_types.h>
 
 #include <pcl/point_cloud.h>
 

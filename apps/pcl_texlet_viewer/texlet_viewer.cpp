@@ -3,7 +3,7 @@
 #include "../common/app_main.h"
 #include "texlet_backend.h"
 
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/filters/filter.h>
 #include <pcl/visualization/interactor_style.h>

@@ -10,7 +10,7 @@
 #include "frame_sources.h"
 #include "texlet_layers.h"
 
-#include <pcl_texlet/texlet_parameters.h>
+#include <pcl_texlet/features/texlet_parameters.h>
 
 #include <pcl/visualization/keyboard_event.h>
 #include <pcl/visualization/pcl_visualizer.h>

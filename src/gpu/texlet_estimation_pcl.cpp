@@ -3,8 +3,8 @@
  * Compiled only where PCL is present (it links libpcl_texlet).
  */
 #include <pcl_texlet/gpu/texlet_estimation_pcl.h>
-#include <pcl_texlet/openni_fov_model.h>
-#include <pcl_texlet/pinhole_model.h>
+#include <pcl_texlet/camera/openni_fov_model.h>
+#include <pcl_texlet/camera/pinhole_model.h>
 
 #include <pcl/exceptions.h>
 

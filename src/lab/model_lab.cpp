@@ -1,6 +1,6 @@
 #include <pcl_texlet/lab/model_lab.h>
 #include <pcl_texlet/kernels/effect_terms.h>
-#include <pcl_texlet/noise_terms.h>
+#include <pcl_texlet/noise/noise_terms.h>
 
 #include <pcl/exceptions.h>
 

@@ -3,9 +3,9 @@
  */
 #include <pcl_texlet/lab/texlet_consistency.h>
 
-#include <pcl_texlet/depth_image.h>
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/camera/depth_image.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/exceptions.h>
 #include <pcl/point_types.h>

@@ -1,7 +1,7 @@
 #include "frame_source.h"
 
-#include <pcl_texlet/recording_readers.h>
-#include <pcl_texlet/simulator/simulation_config.h>
+#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/simulation/simulation_config.h>
 
 #include <pcl/exceptions.h>
 

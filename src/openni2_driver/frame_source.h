@@ -17,9 +17,9 @@
  */
 #pragma once
 
-#include <pcl_texlet/recording.h>
-#include <pcl_texlet/simulator/kinect_simulator.h>
-#include <pcl_texlet/simulator/scene_setup.h>
+#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/simulation/kinect_simulator.h>
+#include <pcl_texlet/simulation/scene_setup.h>
 
 #include <cstdint>
 #include <map>

@@ -1,5 +1,5 @@
 // Uses the installed pcl_texlet: texlets of a synthetic frontal wall must face the camera.
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include <cmath>
 #include <iostream>

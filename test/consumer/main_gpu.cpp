@@ -1,7 +1,7 @@
 // Uses the installed CUDA backend (pcl_texlet::pcl_texlet_gpu_pcl), from C++ alone: with a CUDA
 // device, the GPU's texlets of a synthetic frontal wall must face the camera, as the CPU's do;
 // without one, compute () must throw pcl::gpu::CudaError naming the failed call.
-#include <pcl_texlet/camera_estimation.h>
+#include <pcl_texlet/camera/camera_estimation.h>
 #include <pcl_texlet/gpu/texlet_estimation_pcl.h>
 
 #include <cmath>

@@ -1,12 +1,12 @@
 /*
- * Fuzz target: a recording's camera.yaml (ROS camera_info, src/recording.cpp) and the camera
+ * Fuzz target: a recording's camera.yaml (ROS camera_info, src/io/recording.cpp) and the camera
  * model built from it (PinholeModel::fromCameraInfo): a file that loads must give a model that
  * projects and back-projects without crashing, or a clear exception.
  */
 #include "fuzz_input_file.h"
 
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/recording.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/io/recording.h>
 #include <pcl/exceptions.h>
 
 extern "C" int

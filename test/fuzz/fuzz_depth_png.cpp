@@ -1,5 +1,5 @@
 /*
- * Fuzz target: the recording reader's PNG frames (src/recording.cpp, readDepthPng and readRgbPng
+ * Fuzz target: the recording reader's PNG frames (src/io/recording.cpp, readDepthPng and readRgbPng
  * through libpng) and RecordingFolderReader reading the input as the frame of a one-frame
  * recording folder (camera.yaml of 8 x 6 pixels, written once). A frame that reads must hold
  * width x height samples.
@@ -10,7 +10,7 @@
  */
 #include "fuzz_input_file.h"
 
-#include <pcl_texlet/recording.h>
+#include <pcl_texlet/io/recording.h>
 #include <pcl/exceptions.h>
 
 #include <cstdlib>

@@ -1,11 +1,11 @@
 /*
  * Fuzz target: the multi-sensor extrinsics YAML (loadExtrinsicsYaml) and the simulator's
- * meta.yaml keys the study reads (poseFromMetaYaml), src/multi_sensor/extrinsics.cpp. A file
+ * meta.yaml keys the study reads (poseFromMetaYaml), src/relations/extrinsics.cpp. A file
  * that loads must hold rigid poses.
  */
 #include "fuzz_input_file.h"
 
-#include <pcl_texlet/multi_sensor/extrinsics.h>
+#include <pcl_texlet/relations/extrinsics.h>
 #include <pcl/exceptions.h>
 
 #include <cmath>

@@ -1,11 +1,11 @@
 /*
  * Fuzz target: the intrinsics.xml of PCL's image grabber (loadGrabberIntrinsicsXml,
- * src/recording_readers.cpp), parsed with boost::property_tree, and the pinhole built from it.
+ * src/io/recording_readers.cpp), parsed with boost::property_tree, and the pinhole built from it.
  */
 #include "fuzz_input_file.h"
 
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/recording_readers.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/io/recording_readers.h>
 #include <pcl/exceptions.h>
 
 extern "C" int

@@ -1,11 +1,11 @@
 /*
- * Fuzz target: the noise model YAML (src/noise_model_io.cpp), as pcl_texlet_extract
+ * Fuzz target: the noise model YAML (src/io/noise_model_io.cpp), as pcl_texlet_extract
  * --noise-model and the model lab read it. A model that loads must write back to YAML that loads
  * to the same parameters, and must give a finite sigma at a valid depth or throw.
  */
 #include "fuzz_input_file.h"
 
-#include <pcl_texlet/noise_model_io.h>
+#include <pcl_texlet/io/noise_model_io.h>
 #include <pcl/exceptions.h>
 
 #include <cmath>

@@ -1,8 +1,8 @@
 /*
  * Fuzz target: the simulator's configuration YAML (parseSimulationConfig,
- * src/simulator/simulation_config.cpp), as pcl_texlet_sim --config reads it.
+ * src/simulation/simulation_config.cpp), as pcl_texlet_sim --config reads it.
  */
-#include <pcl_texlet/simulator/simulation_config.h>
+#include <pcl_texlet/simulation/simulation_config.h>
 #include <pcl/exceptions.h>
 
 #include <cstdint>

@@ -9,9 +9,9 @@
  * Iterations and Monte Carlo samples are kept small so that one input runs in milliseconds; their
  * upper limits are not what this target looks for.
  */
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/point_types.h>
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/features/point_types.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 #include <pcl/exceptions.h>
 #include <pcl/point_types.h>
 

@@ -11,8 +11,8 @@
  * one bin over. The tests count those borderline relations on the host and allow no more
  * differences than that, and check that they are rare (so the bound is not vacuous).
  */
-#include <pcl_texlet/multi_sensor/interference_study.h> // (Random123 before CUDA's headers: see gpu/random123_host_sincospi.h)
-#include <pcl_texlet/multi_sensor/texlet_relations.h>
+#include "interference_study.h" // (Random123 before CUDA's headers: see gpu/random123_host_sincospi.h)
+#include <pcl_texlet/relations/texlet_relations.h>
 
 #include <pcl_texlet/gpu/containers/cuda_error.h>
 #include <pcl_texlet/gpu/texlet_relations.h>

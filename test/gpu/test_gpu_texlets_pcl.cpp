@@ -5,12 +5,12 @@
  * checked against the CPU path: same texlets for the same seed. With a device, the GPU's own
  * output is, within the issue's tolerances (normals 1e-4 rad, covariances 1e-3 relative).
  */
-#include <pcl_texlet/depth_image.h>
+#include <pcl_texlet/camera/depth_image.h>
 #include <pcl_texlet/gpu/synthetic_frame.h>
 #include <pcl_texlet/gpu/texlet_estimation_pcl.h>
-#include <pcl_texlet/openni_fov_model.h>
-#include <pcl_texlet/pinhole_model.h>
-#include <pcl_texlet/texlet_estimation.h>
+#include <pcl_texlet/camera/openni_fov_model.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 
 #include "gpu/texlet_compare.h"
 

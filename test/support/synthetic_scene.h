@@ -6,9 +6,9 @@
  */
 #pragma once
 
-#include <pcl_texlet/pinhole_model.h>
+#include <pcl_texlet/camera/pinhole_model.h>
 #include <pcl_texlet/kernels/ray_cast.h>
-#include <pcl_texlet/noise_model.h>
+#include <pcl_texlet/noise/noise_model.h>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>

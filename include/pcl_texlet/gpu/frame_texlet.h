@@ -22,7 +22,7 @@
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/kernels/plumb_bob.h>
 #include <pcl_texlet/kernels/texlet_kernel.h>
-#include <pcl_texlet/texlet_parameters.h>
+#include <pcl_texlet/features/texlet_parameters.h>
 
 #include <cmath>
 #include <cstddef>
@@ -68,7 +68,7 @@ static_assert (sizeof (DevicePoint) == 16, "DevicePoint must have pcl::PointXYZ'
 
 /** \brief The camera models of camera_model.h as a POD the device can evaluate: the
   * calibrated pinhole with plumb_bob distortion (PinholeModel) or OpenNI's field-of-view
-  * back-projection (OpenNIFovModel). Formulas are those of src/camera_model.cpp.
+  * back-projection (OpenNIFovModel). Formulas are those of src/camera/camera_model.cpp.
   */
 struct DeviceCamera
 {

@@ -10,7 +10,7 @@
 
 #include <pcl_texlet/gpu/containers/device_array.h>
 #include <pcl_texlet/gpu/frame_texlet.h>
-#include <pcl_texlet/texlet_parameters.h>
+#include <pcl_texlet/features/texlet_parameters.h>
 
 #include <cuda_runtime_api.h>
 

@@ -7,12 +7,12 @@
  */
 #pragma once
 
-#include <pcl_texlet/camera_estimation.h>
-#include <pcl_texlet/camera_model.h>
+#include <pcl_texlet/camera/camera_estimation.h>
+#include <pcl_texlet/camera/camera_model.h>
 #include <pcl_texlet/gpu/texlet_estimation.h>
-#include <pcl_texlet/noise_model.h>
-#include <pcl_texlet/point_types.h>
-#include <pcl_texlet/valid_point.h>
+#include <pcl_texlet/noise/noise_model.h>
+#include <pcl_texlet/features/point_types.h>
+#include <pcl_texlet/camera/valid_point.h>
 
 #include <pcl/exceptions.h>
 #include <pcl/point_cloud.h>

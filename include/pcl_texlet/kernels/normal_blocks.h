@@ -17,7 +17,7 @@
 
 #if defined(__AVX2__) && !defined(__CUDACC__)
 #include <immintrin.h>
-#define PCL_TEXLET_AVX2_KERNELS 1 // compiled for x86-64-v3 (src/texlet_kernel_x86_64_v3.cpp)
+#define PCL_TEXLET_AVX2_KERNELS 1 // compiled for x86-64-v3 (src/features/texlet_kernel_x86_64_v3.cpp)
 #endif
 
 namespace pcl

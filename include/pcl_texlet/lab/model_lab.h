@@ -26,7 +26,7 @@
 
 #include <pcl_texlet/lab/recording_measurement.h>
 #include <pcl_texlet/lab/texlet_consistency.h>
-#include <pcl_texlet/noise_model.h>
+#include <pcl_texlet/noise/noise_model.h>
 
 #include <functional>
 #include <memory>

@@ -13,8 +13,8 @@
  */
 #pragma once
 
-#include <pcl_texlet/noise_model.h>
-#include <pcl_texlet/recording.h>
+#include <pcl_texlet/noise/noise_model.h>
+#include <pcl_texlet/io/recording.h>
 
 #include <cstdint>
 #include <memory>

@@ -16,8 +16,8 @@
 #pragma once
 
 #include <pcl_texlet/lab/recording_measurement.h>
-#include <pcl_texlet/noise_model.h>
-#include <pcl_texlet/texlet_parameters.h>
+#include <pcl_texlet/noise/noise_model.h>
+#include <pcl_texlet/features/texlet_parameters.h>
 
 #include <limits>
 #include <vector>

@@ -1,0 +1,567 @@
+/*
+ * pcl_texlet: implementation of TexletEstimation and computeTexlet.
+ */
+#pragma once
+
+#include <pcl_texlet/camera/camera_estimation.h>
+#include <pcl_texlet/kernels/hex_grid.h>
+#include <pcl_texlet/kernels/pixel_disc.h>
+#include <pcl_texlet/kernels/texlet_kernel.h>
+#include <pcl_texlet/features/texlet_estimation.h>
+#include <pcl_texlet/camera/valid_point.h>
+
+#include <pcl/common/point_tests.h>
+#include <pcl/exceptions.h>
+#include <pcl/point_types.h> // pcl::traits::has_color_v
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <typeinfo>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace pcl
+{
+namespace texlet
+{
+namespace detail
+{
+
+/** \brief kernels::computeTexlet in double precision, compiled into the library for the
+  * baseline (src/features/texlet_estimation.cpp) and for x86-64-v3 with AVX2 intrinsics
+  * (src/features/texlet_kernel_x86_64_v3.cpp); the first call picks the one the processor runs.
+  */
+PCL_EXPORTS void
+computeTexletKernel (const kernels::Neighbourhood<double> &nb, const kernels::TexletSettings<double> &settings,
+                     std::uint32_t texlet, unsigned char *mask, double *work, kernels::TexletResult<double> &out);
+
+/** \brief Depth SD in metres of a point at pixel (u, v) and depth z (metres); the covariates
+  * a frame does not carry (frame index, f b, projectors) come from \a base.
+  */
+inline double
+depthSigmaMetres (const NoiseModel &noise, const CameraModel &camera, int u, int v, double z,
+                  const PixelContext &base = PixelContext ())
+{
+  PixelContext ctx = base;
+  ctx.u = u;
+  ctx.v = v;
+  ctx.radius_px = camera.principalPointDistance (u, v);
+  ctx.depth_mm = z * 1000.0;
+  return noise.sigmaMm (ctx) * 1e-3;
+}
+
+/** \brief Gathers a texlet's neighbourhood from an organised cloud into reusable buffers and
+  * runs the kernel on it. One worker per thread: nothing is allocated per texlet.
+  */
+template <typename PointInT>
+class TexletWorker
+{
+public:
+  /** \param sigma_m per-pixel depth SD in metres, or null to evaluate the noise model here
+    * \param context the noise model's covariates that a frame does not carry (frame index, f b,
+    *        projectors), or null for the defaults
+    * \param radius_px per-pixel distance from the principal point (the camera's), or null
+    */
+  TexletWorker (const pcl::PointCloud<PointInT> &cloud, const TexletParameters &params, const CameraModel &camera,
+                const NoiseModel &noise, const double *sigma_m, const PixelContext *context = nullptr,
+                const double *radius_px = nullptr)
+    : cloud_ (cloud), params_ (params), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m), radius_px_ (radius_px),
+      context_ (context ? *context : PixelContext ())
+  {
+    // Does the model's variance depend on the incidence angle? Then each texlet's covariances
+    // are rescaled to its own viewing angle (see viewingAngleScale).
+    PixelContext a = context_, b = context_;
+    a.depth_mm = b.depth_mm = 2000.0;
+    b.cos_incidence = 0.5;
+    const double sa = noise.sigmaMm (a), sb = noise.sigmaMm (b);
+    angle_dependent_ = std::isfinite (sa) && std::isfinite (sb) && sa != sb;
+    polynomial_only_ = noise.isPolynomialOnly (polynomial_);
+    // The ring of normal averaging: the centre and its six hexagonal neighbours at `radius`.
+    for (int k = 1; k < 7; ++k)
+      kernels::hexNeighbourOffset (k - 1, params.radius, ring_du_[k], ring_dv_[k]);
+    const int n = kernels::pixelDiscSize (params.radius);
+    du_.resize (n);
+    dv_.resize (n);
+    kernels::pixelDiscOffsets (params.radius, du_.data (), dv_.data (), n);
+    offset_.resize (n);
+    for (int o = 0; o < n; ++o)
+      offset_[o] = static_cast<std::ptrdiff_t> (dv_[o]) * cloud.width + du_[o];
+    x_.resize (n); y_.resize (n); z_.resize (n); s_.resize (n);
+    pixel_.resize (n);
+    mask_.resize (n);
+    work_.resize (kernels::texletWorkSize (n));
+    settings_.ransac_iterations = params.ransac_iterations;
+    settings_.fit = params.fit;
+    settings_.uncertainty = params.uncertainty;
+    settings_.samples = params.samples;
+    settings_.seed = params.seed;
+    settings_.min_support = params.min_support;
+    settings_.viewpoint = {params.viewpoint[0], params.viewpoint[1], params.viewpoint[2]};
+  }
+
+  /** \brief Texlet at pixel \a centre into \a out; false (and NaN) where none could be made. */
+  template <typename PointOutT> bool
+  compute (pcl::index_t centre, PointOutT &out)
+  {
+    const int w = static_cast<int> (cloud_.width), h = static_cast<int> (cloud_.height);
+    const int cu = static_cast<int> (centre % w), cv = static_cast<int> (centre / w);
+    kernels::Neighbourhood<double> nb;
+    const bool need_sigma = params_.uncertainty != UncertaintyMethod::None;
+    int count = 0;
+    double zsum = 0.0;
+    // Raw pointers in locals: through the vectors, every store would make the compiler reload
+    // their data pointers (the gather was ~40 instructions a pixel, now about half).
+    double *const xs = x_.data (), *const ys = y_.data (), *const zs = z_.data ();
+    int *const pixels = pixel_.data ();
+    const auto take = [&] (const PointInT &p, int pixel) {
+      xs[count] = p.x; ys[count] = p.y; zs[count] = p.z;
+      pixels[count] = pixel;
+      zsum += p.z;
+      ++count;
+    };
+    const int rad = params_.radius;
+    if (cu >= rad && cv >= rad && cu + rad < w && cv + rad < h)
+    {
+      // The disc lies inside the image: no bounds checks, pixels by their linear offsets.
+      const PointInT *base = &cloud_[centre];
+      const std::ptrdiff_t *const offsets = offset_.data ();
+      const std::size_t n_offsets = offset_.size ();
+      for (std::size_t o = 0; o < n_offsets; ++o)
+      {
+        const PointInT &p = base[offsets[o]];
+        if (isValidDepthPoint (p))
+          take (p, static_cast<int> (centre + offsets[o]));
+      }
+    }
+    else
+      for (std::size_t o = 0; o < du_.size (); ++o)
+      {
+        const int u = cu + du_[o], v = cv + dv_[o];
+        if (u < 0 || v < 0 || u >= w || v >= h)
+          continue;
+        const PointInT &p = cloud_ (u, v);
+        if (isValidDepthPoint (p))
+          take (p, v * w + u);
+      }
+    nb.x = x_.data (); nb.y = y_.data (); nb.z = z_.data ();
+    nb.count = count;
+    if (count == 0)
+      return fail (centre, out);
+
+    // Ring for normal averaging: the centre and its six hexagonal neighbours at `radius`.
+    for (int k = 0; k < 7; ++k)
+    {
+      const int u = cu + ring_du_[k], v = cv + ring_dv_[k];
+      nb.ring_valid[k] = false;
+      nb.ring[k] = {0, 0, 0};
+      nb.ring_sigma[k] = 0;
+      if (u < 0 || v < 0 || u >= w || v >= h || !isValidDepthPoint (cloud_ (u, v)))
+        continue;
+      const PointInT &p = cloud_ (u, v);
+      nb.ring[k] = {p.x, p.y, p.z};
+      nb.ring_valid[k] = true;
+      // Only the uncertainty of normal averaging reads the ring's SDs: without uncertainty,
+      // evaluating the noise model 7 times a texlet was 7 % of the frame's instructions.
+      nb.ring_sigma[k] = need_sigma ? sigmaAt (u, v, p.z) : 0.0;
+    }
+    if (need_sigma)
+    {
+      for (int i = 0; i < count; ++i)
+      {
+        const double s = sigma_m_ ? sigma_m_[pixel_[i]] : std::numeric_limits<double>::quiet_NaN ();
+        s_[i] = std::isfinite (s) ? s : modelSigma (pixel_[i] % w, pixel_[i] / w, z_[i]);
+      }
+      nb.sigma = s_.data ();
+    }
+    settings_.threshold = params_.ransac_threshold > 0.0
+                              ? params_.ransac_threshold
+                              : params_.threshold_sigmas * modelSigma (cu, cv, zsum / count);
+
+    kernels::TexletResult<double> r;
+    computeTexletKernel (nb, settings_, static_cast<std::uint32_t> (centre), mask_.data (), work_.data (), r);
+    if (!r.ok)
+      return fail (centre, out);
+
+    out.x = static_cast<float> (r.P.x); out.y = static_cast<float> (r.P.y); out.z = static_cast<float> (r.P.z);
+    out.normal_x = static_cast<float> (r.N.x); out.normal_y = static_cast<float> (r.N.y);
+    out.normal_z = static_cast<float> (r.N.z);
+    out.curvature = static_cast<float> (r.curvature);
+    out.radius = static_cast<float> (r.radius);
+    out.support = static_cast<std::uint32_t> (r.support);
+    if (need_sigma && angle_dependent_)
+    {
+      const double f = viewingAngleScale (cu, cv, r);
+      for (double &c : r.cov_p)
+        c *= f;
+      for (double &c : r.cov_n)
+        c *= f;
+    }
+    setCovariances (r.cov_p, r.cov_n, out);
+    out.pixel_index = static_cast<std::uint32_t> (centre);
+    meanColour (count, out);
+    return true;
+  }
+
+private:
+  /** Depth SD in metres at pixel (u, v) and depth z (metres), from the per-pixel image when
+    * there is one. */
+  double
+  sigmaAt (int u, int v, double z) const
+  {
+    if (sigma_m_)
+    {
+      const double s = sigma_m_[static_cast<std::size_t> (v) * cloud_.width + u];
+      if (std::isfinite (s))
+        return s;
+    }
+    return modelSigma (u, v, z);
+  }
+
+  /** Depth SD in metres from the noise model at pixel (u, v) and depth z (metres). */
+  double
+  modelSigma (int u, int v, double z) const
+  {
+    if (polynomial_only_) // the same bits without the noise terms' virtual calls
+    {
+      const double r = radius_px_ ? radius_px_[static_cast<std::size_t> (v) * cloud_.width + u]
+                                  : camera_.principalPointDistance (u, v);
+      return kernels::polynomialSigmaMm (polynomial_, r, z * 1000.0, noise_.minSigmaMm ()) * 1e-3;
+    }
+    return depthSigmaMetres (noise_, camera_, u, v, z, context_);
+  }
+
+  /** The depth variances are evaluated per pixel before the fit, at a frontal view (a pixel
+    * alone has no normal). Once the texlet's normal is known, the model's variance at the
+    * centre pixel for the texlet's own incidence angle (between N and the viewing ray) over
+    * that at a frontal view scales every disc point's variance alike, and so (first-order
+    * propagation is linear in the variances) Sigma_P and Sigma_N.
+    */
+  double
+  viewingAngleScale (int cu, int cv, const kernels::TexletResult<double> &r) const
+  {
+    const double rx = r.P.x - params_.viewpoint[0], ry = r.P.y - params_.viewpoint[1], rz = r.P.z - params_.viewpoint[2];
+    const double rn = std::sqrt (rx * rx + ry * ry + rz * rz);
+    const double nn = std::sqrt (r.N.x * r.N.x + r.N.y * r.N.y + r.N.z * r.N.z);
+    if (!(rn > 0) || !(nn > 0))
+      return 1.0;
+    PixelContext ctx = context_;
+    ctx.u = cu;
+    ctx.v = cv;
+    ctx.radius_px = camera_.principalPointDistance (cu, cv);
+    ctx.depth_mm = r.P.z * 1000.0;
+    const double frontal = noise_.sigmaMm (ctx);
+    ctx.cos_incidence = std::min (1.0, std::fabs (r.N.x * rx + r.N.y * ry + r.N.z * rz) / (rn * nn));
+    const double oblique = noise_.sigmaMm (ctx);
+    const double f = oblique * oblique / (frontal * frontal);
+    return std::isfinite (f) && f > 0 ? f : 1.0;
+  }
+
+  template <typename PointOutT> static void
+  setCovariances (const double p[6], const double n[3], PointOutT &out)
+  {
+    out.cov_p_xx = static_cast<float> (p[0]); out.cov_p_xy = static_cast<float> (p[1]);
+    out.cov_p_xz = static_cast<float> (p[2]); out.cov_p_yy = static_cast<float> (p[3]);
+    out.cov_p_yz = static_cast<float> (p[4]); out.cov_p_zz = static_cast<float> (p[5]);
+    out.cov_n_11 = static_cast<float> (n[0]); out.cov_n_12 = static_cast<float> (n[1]);
+    out.cov_n_22 = static_cast<float> (n[2]);
+  }
+
+  template <typename PointOutT> void
+  meanColour (int count, PointOutT &out) const
+  {
+    if constexpr (pcl::traits::has_color_v<PointInT>)
+    {
+      unsigned r = 0, g = 0, b = 0, n = 0;
+      for (int i = 0; i < count; ++i)
+        if (mask_[i])
+        {
+          const PointInT &p = cloud_[pixel_[i]];
+          r += p.r; g += p.g; b += p.b; ++n;
+        }
+      out.r = static_cast<std::uint8_t> ((r + n / 2) / n);
+      out.g = static_cast<std::uint8_t> ((g + n / 2) / n);
+      out.b = static_cast<std::uint8_t> ((b + n / 2) / n);
+      out.a = 255;
+    }
+    else
+      out.rgba = 0;
+  }
+
+  template <typename PointOutT> static bool
+  fail (pcl::index_t centre, PointOutT &out)
+  {
+    const float nan = std::numeric_limits<float>::quiet_NaN ();
+    out.x = out.y = out.z = nan;
+    out.normal_x = out.normal_y = out.normal_z = nan;
+    out.curvature = out.radius = nan;
+    out.rgba = 0;
+    out.support = 0;
+    const double cn[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
+    setCovariances (cn, cn, out);
+    out.pixel_index = static_cast<std::uint32_t> (centre);
+    return false;
+  }
+
+  const pcl::PointCloud<PointInT> &cloud_;
+  const TexletParameters &params_;
+  const CameraModel &camera_;
+  const NoiseModel &noise_;
+  const double *sigma_m_;
+  const double *radius_px_; // per-pixel distance from the principal point, or null
+  PixelContext context_;
+  bool angle_dependent_ = false;
+  bool polynomial_only_ = false;         // the noise model is the paper's polynomial alone
+  kernels::PolynomialCoefficients polynomial_ = {};
+  int ring_du_[7] = {0, 0, 0, 0, 0, 0, 0}, ring_dv_[7] = {0, 0, 0, 0, 0, 0, 0};
+  kernels::TexletSettings<double> settings_;
+  std::vector<int> du_, dv_;
+  std::vector<std::ptrdiff_t> offset_; // dv * width + du of each disc pixel
+  std::vector<double> x_, y_, z_, s_, work_;
+  std::vector<int> pixel_;
+  std::vector<unsigned char> mask_;
+};
+
+inline void
+requireOrganised (std::uint32_t width, std::uint32_t height, std::size_t size, const char *who)
+{
+  if (height <= 1 || static_cast<std::size_t> (width) * height != size)
+  {
+    std::ostringstream msg;
+    msg << who << ": the input cloud is not organised (width " << width << ", height " << height << ", " << size
+        << " points); texlets need the pixel grid of a depth image";
+    throw pcl::UnorganizedPointCloudException (msg.str ());
+  }
+}
+
+} // namespace detail
+} // namespace texlet
+
+template <typename PointInT, typename PointOutT> bool
+computeTexlet (const pcl::PointCloud<PointInT> &cloud, pcl::index_t centre, const texlet::TexletParameters &params,
+               const texlet::CameraModel &camera, const texlet::NoiseModel &noise, PointOutT &texlet)
+{
+  texlet::validate (params);
+  texlet::detail::requireOrganised (cloud.width, cloud.height, cloud.size (), "pcl::computeTexlet");
+  if (centre < 0 || static_cast<std::size_t> (centre) >= cloud.size ())
+  {
+    std::ostringstream msg;
+    msg << "pcl::computeTexlet: centre index " << centre << " is outside the cloud (" << cloud.size () << " points)";
+    throw pcl::BadArgumentException (msg.str ());
+  }
+  texlet::detail::TexletWorker<PointInT> worker (cloud, params, camera, noise, nullptr);
+  return worker.compute (centre, texlet);
+}
+
+#define PCL_TEXLET_SETTER(field, value) \
+  do { texlet::TexletParameters p = params_; p.field = value; texlet::validate (p); params_ = p; } while (0)
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setSpacing (int pixels) { PCL_TEXLET_SETTER (spacing, pixels); }
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setRadius (int pixels) { PCL_TEXLET_SETTER (radius, pixels); }
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setRansacIterations (int iterations)
+{
+  PCL_TEXLET_SETTER (ransac_iterations, iterations);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setRansacThreshold (double metres)
+{
+  PCL_TEXLET_SETTER (ransac_threshold, metres);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setRansacThresholdSigmas (double sigmas)
+{
+  PCL_TEXLET_SETTER (threshold_sigmas, sigmas);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setPlaneFitMethod (texlet::PlaneFitMethod method)
+{
+  PCL_TEXLET_SETTER (fit, method);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setUncertaintyMethod (texlet::UncertaintyMethod method)
+{
+  PCL_TEXLET_SETTER (uncertainty, method);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setMonteCarloSamples (int samples)
+{
+  PCL_TEXLET_SETTER (samples, samples);
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setMinSupport (int points) { PCL_TEXLET_SETTER (min_support, points); }
+
+#undef PCL_TEXLET_SETTER
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setViewPoint (float vpx, float vpy, float vpz)
+{
+  texlet::TexletParameters p = params_;
+  p.viewpoint[0] = vpx;
+  p.viewpoint[1] = vpy;
+  p.viewpoint[2] = vpz;
+  texlet::validate (p);
+  params_ = p;
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setParameters (const texlet::TexletParameters &params)
+{
+  texlet::validate (params);
+  params_ = params;
+}
+
+template <typename PointInT, typename PointOutT> bool
+TexletEstimation<PointInT, PointOutT>::initCompute ()
+{
+  // Feature::initCompute would set up a metric search; texlets use the pixel grid instead.
+  if (!input_)
+    throw pcl::InitFailedException ("pcl::TexletEstimation: no input cloud was given (setInputCloud)");
+  texlet::detail::requireOrganised (input_->width, input_->height, input_->size (), "pcl::TexletEstimation");
+  if (!indices_ || this->fake_indices_)
+  {
+    const texlet::kernels::HexGrid grid = texlet::kernels::makeHexGrid (input_->width, input_->height, params_.spacing);
+    auto centres = std::make_shared<pcl::Indices> (grid.size ());
+    for (int i = 0; i < grid.size (); ++i)
+    {
+      int u, v;
+      texlet::kernels::hexCentre (grid, i, u, v);
+      (*centres)[i] = static_cast<pcl::index_t> (v) * input_->width + u;
+    }
+    indices_ = centres;
+    this->fake_indices_ = true;
+  }
+  else
+  {
+    for (const pcl::index_t i : *indices_)
+      if (i < 0 || static_cast<std::size_t> (i) >= input_->size ())
+      {
+        std::ostringstream msg;
+        msg << "pcl::TexletEstimation: index " << i << " is outside the input cloud (" << input_->size () << " points)";
+        throw pcl::BadArgumentException (msg.str ());
+      }
+  }
+  return true;
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
+{
+  const pcl::PointCloud<PointInT> &cloud = *input_;
+  const int w = static_cast<int> (cloud.width), h = static_cast<int> (cloud.height);
+#ifdef _OPENMP
+  const int threads = threads_ == 0 ? omp_get_num_procs () : static_cast<int> (threads_);
+#endif
+
+  // Is there a valid point at all? The first one ends the search (a real frame has one in
+  // its first rows), so this costs next to nothing.
+  bool any_valid = false;
+  for (std::size_t i = 0; i < cloud.size () && !any_valid; ++i)
+    any_valid = texlet::isValidDepthPoint (cloud[i]);
+  if (!any_valid)
+    throw pcl::ComputeFailedException ("pcl::TexletEstimation: the input cloud has no valid point (all depth is "
+                                       "invalid: NaN, infinite or not in front of the camera)");
+
+  texlet::CameraModel::ConstPtr camera = camera_;
+  if (!camera)
+    camera = std::make_shared<texlet::PinholeModel> (texlet::estimatePinholeModel (cloud));
+
+  // Per-pixel depth SD, once per frame (pixels are shared by the overlapping discs), in the
+  // same parallel region as the texlets: one fork and join per frame.
+  const bool need_sigma = params_.uncertainty != texlet::UncertaintyMethod::None;
+  if (need_sigma)
+    sigma_image_.resize (cloud.size ());
+  texlet::kernels::PolynomialCoefficients polynomial = {};
+  const bool polynomial_only = noise_.isPolynomialOnly (polynomial);
+  const double min_sigma_mm = noise_.minSigmaMm ();
+  // The paper's model needs each pixel's distance from the principal point: a virtual call and
+  // a hypot per pixel, the same for every frame of one camera, so kept. The five probes catch
+  // a camera object changed in place.
+  bool fill_radius = false;
+  if (polynomial_only && need_sigma)
+  {
+    const double probe[5] = {camera->principalPointDistance (0, 0), camera->principalPointDistance (w - 1, 0),
+                             camera->principalPointDistance (0, h - 1), camera->principalPointDistance (w - 1, h - 1),
+                             camera->principalPointDistance (w / 2, h / 2)};
+    // A pinhole's distances are hypot (u - cx, v - cy): the same principal point gives the same
+    // image, also for a camera estimated anew from each frame.
+    const auto *pinhole = dynamic_cast<const texlet::PinholeModel *> (camera.get ());
+    const auto *kept = dynamic_cast<const texlet::PinholeModel *> (radius_camera_.get ());
+    const bool same_camera = camera == radius_camera_ ||
+                             (pinhole && kept && typeid (*pinhole) == typeid (texlet::PinholeModel) &&
+                              typeid (*kept) == typeid (texlet::PinholeModel) && pinhole->cx () == kept->cx () &&
+                              pinhole->cy () == kept->cy ());
+    fill_radius = !same_camera || radius_width_ != cloud.width || radius_height_ != cloud.height ||
+                  !std::equal (probe, probe + 5, radius_probe_);
+    if (fill_radius)
+    {
+      radius_image_.resize (cloud.size ());
+      radius_camera_ = camera;
+      radius_width_ = cloud.width;
+      radius_height_ = cloud.height;
+      std::copy (probe, probe + 5, radius_probe_);
+    }
+  }
+  const auto n = static_cast<std::ptrdiff_t> (indices_->size ());
+  std::size_t made = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : made)
+  {
+    if (fill_radius)
+    {
+#pragma omp for schedule(static)
+      for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u)
+          radius_image_[static_cast<std::size_t> (v) * w + u] = camera->principalPointDistance (u, v);
+    }
+    if (need_sigma)
+    {
+#pragma omp for schedule(static)
+      for (int v = 0; v < h; ++v)
+      {
+        double *const row = sigma_image_.data () + static_cast<std::size_t> (v) * w;
+        if (polynomial_only)
+          // The paper's model (the default): the same bits as NoiseModel::sigmaMm without its
+          // virtual calls, which were 20 % of an analytic frame's instructions.
+        {
+          const double *const radius = radius_image_.data () + static_cast<std::size_t> (v) * w;
+          const PointInT *const points = &cloud (0, v);
+          for (int u = 0; u < w; ++u)
+            row[u] = texlet::isValidDepthPoint (points[u])
+                         ? texlet::kernels::polynomialSigmaMm (polynomial, radius[u], points[u].z * 1000.0,
+                                                               min_sigma_mm) * 1e-3
+                         : std::numeric_limits<double>::quiet_NaN ();
+        }
+        else
+          for (int u = 0; u < w; ++u)
+          {
+            const PointInT &p = cloud (u, v);
+            row[u] = texlet::isValidDepthPoint (p)
+                         ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z, noise_context_)
+                         : std::numeric_limits<double>::quiet_NaN ();
+          }
+      }
+    }
+    texlet::detail::TexletWorker<PointInT> worker (cloud, params_, *camera, noise_,
+                                                   need_sigma ? sigma_image_.data () : nullptr, &noise_context_,
+                                                   polynomial_only && need_sigma ? radius_image_.data () : nullptr);
+#pragma omp for schedule(dynamic, 64)
+    for (std::ptrdiff_t i = 0; i < n; ++i)
+      made += worker.compute ((*indices_)[i], output[i]) ? 1 : 0;
+  }
+  output.is_dense = made == indices_->size ();
+}
+
+} // namespace pcl

@@ -1,0 +1,216 @@
+/*
+ * pcl_texlet: texlet extraction from organised clouds as a pcl::Feature.
+ */
+#pragma once
+
+#include <pcl_texlet/camera/camera_model.h>
+#include <pcl_texlet/noise/noise_model.h>
+#include <pcl_texlet/features/point_types.h>
+#include <pcl_texlet/features/texlet_parameters.h>
+
+#include <pcl/features/feature.h>
+
+#include <memory>
+#include <vector>
+
+namespace pcl
+{
+
+/** \brief Compute one texlet centred on pixel \a centre of an organised cloud: RANSAC over
+  * the pixel disc, the plane fit, and the uncertainty chosen in \a params (see
+  * TexletEstimation). Allocates scratch per call; TexletEstimation reuses it across texlets.
+  * \param[in] cloud organised input cloud, metres
+  * \param[in] centre index of the centre pixel in \a cloud
+  * \param[in] params extraction settings (validated)
+  * \param[in] camera camera model of the cloud (gives the noise model's radius)
+  * \param[in] noise depth noise model (sigma in mm)
+  * \param[out] texlet the texlet; NaN with support 0 where it could not be made
+  * \return true if a texlet was made
+  * \throws pcl::BadArgumentException for bad parameters or an out-of-range centre,
+  *         pcl::UnorganizedPointCloudException for an unorganised cloud
+  */
+template <typename PointInT, typename PointOutT> bool
+computeTexlet (const pcl::PointCloud<PointInT> &cloud, pcl::index_t centre, const texlet::TexletParameters &params,
+               const texlet::CameraModel &camera, const texlet::NoiseModel &noise, PointOutT &texlet);
+
+/** \brief TexletEstimation extracts texlets (surface patches with centre, normal, their
+  * covariances, size and mean colour) from an organised point cloud of a depth camera, after
+  * Olesen et al., "Real-time extraction of surface patches with associated uncertainties by
+  * means of Kinect cameras".
+  *
+  * Centres lie on a hexagonal pixel grid (setSpacing) unless indices are set. Each texlet's
+  * neighbourhood is the disc of pixels within setRadius pixels of its centre: the pixel
+  * neighbourhood of the organised image, not a metric search, so setSearchMethod,
+  * setRadiusSearch and setKSearch are not used. RANSAC with a fixed number of iterations
+  * rejects outliers (default threshold: 3 depth SDs of the noise model at the patch), the
+  * chosen plane fit gives P and N, and the chosen method propagates the noise model's depth
+  * noise into Sigma_P and Sigma_N.
+  *
+  * The output holds one texlet per centre, in the order of the centres; a texlet that could
+  * not be made (too few valid points, a degenerate neighbourhood) is NaN with support 0 and
+  * the output is then not dense. Normals face the viewpoint (default: the origin). Random
+  * draws come from Philox counters keyed by (seed, centre pixel, draw), so the output is the
+  * same for the same seed whatever the number of threads.
+  *
+  * Input coordinates are in metres; the noise model works in millimetres.
+  *
+  * \author pcl_texlet developers
+  * \ingroup features
+  */
+template <typename PointInT, typename PointOutT = pcl::Texlet>
+class TexletEstimation : public Feature<PointInT, PointOutT>
+{
+public:
+  using Ptr = shared_ptr<TexletEstimation<PointInT, PointOutT>>;
+  using ConstPtr = shared_ptr<const TexletEstimation<PointInT, PointOutT>>;
+  using PointCloudOut = typename Feature<PointInT, PointOutT>::PointCloudOut;
+  using Feature<PointInT, PointOutT>::feature_name_;
+  using Feature<PointInT, PointOutT>::input_;
+  using Feature<PointInT, PointOutT>::indices_;
+
+  /** \brief Empty constructor: the paper's settings and noise model. */
+  TexletEstimation () : noise_ (texlet::NoiseModel::paper ()) { feature_name_ = "TexletEstimation"; }
+
+  /** \brief Distance between hexagonal grid centres in a row, pixels (default 6). */
+  void
+  setSpacing (int pixels);
+  int
+  getSpacing () const { return params_.spacing; }
+
+  /** \brief Radius of the neighbourhood disc, pixels (default 6). */
+  void
+  setRadius (int pixels);
+  int
+  getRadius () const { return params_.radius; }
+
+  /** \brief RANSAC iterations (default 20). */
+  void
+  setRansacIterations (int iterations);
+  int
+  getRansacIterations () const { return params_.ransac_iterations; }
+
+  /** \brief Point-to-plane inlier distance in metres; 0 (default) derives it per texlet as
+    * getRansacThresholdSigmas() times the noise model's depth SD at the patch.
+    */
+  void
+  setRansacThreshold (double metres);
+  double
+  getRansacThreshold () const { return params_.ransac_threshold; }
+
+  /** \brief Multiple of the depth SD used as the automatic threshold (default 3). */
+  void
+  setRansacThresholdSigmas (double sigmas);
+  double
+  getRansacThresholdSigmas () const { return params_.threshold_sigmas; }
+
+  /** \brief Plane fit: PCA (default), SVD or Averaging. */
+  void
+  setPlaneFitMethod (texlet::PlaneFitMethod method);
+  texlet::PlaneFitMethod
+  getPlaneFitMethod () const { return params_.fit; }
+
+  /** \brief Uncertainty propagation: MonteCarlo (default), Analytic or None. */
+  void
+  setUncertaintyMethod (texlet::UncertaintyMethod method);
+  texlet::UncertaintyMethod
+  getUncertaintyMethod () const { return params_.uncertainty; }
+
+  /** \brief Monte Carlo samples per texlet (default 50, at least 2). */
+  void
+  setMonteCarloSamples (int samples);
+  int
+  getMonteCarloSamples () const { return params_.samples; }
+
+  /** \brief Fewest RANSAC inliers that make a texlet (default 6, at least 3). */
+  void
+  setMinSupport (int points);
+  int
+  getMinSupport () const { return params_.min_support; }
+
+  /** \brief Seed of the Philox streams (default 0). */
+  void
+  setSeed (std::uint32_t seed) { params_.seed = seed; }
+  std::uint32_t
+  getSeed () const { return params_.seed; }
+
+  /** \brief Viewpoint the normals face (default: the origin, the camera centre). */
+  void
+  setViewPoint (float vpx, float vpy, float vpz);
+  void
+  getViewPoint (float &vpx, float &vpy, float &vpz) const
+  {
+    vpx = params_.viewpoint[0];
+    vpy = params_.viewpoint[1];
+    vpz = params_.viewpoint[2];
+  }
+
+  /** \brief Depth noise model (default: the paper's polynomial). */
+  void
+  setNoiseModel (const texlet::NoiseModel &model) { noise_ = model; }
+  const texlet::NoiseModel &
+  getNoiseModel () const { return noise_; }
+
+  /** \brief Covariates of the noise model that a cloud does not carry and that are the same for
+    * every pixel of a frame: `frame` (index since power-on, for drift; NaN: steady state),
+    * `fb_px_m` (focal length in px times baseline in m, which converts the disparity-defined
+    * terms to depth; default 580 x 0.075, Kinect v1 at VGA) and `active_projectors`. The
+    * per-pixel covariates (u, v, radius, depth) are filled in for each pixel, and the incidence
+    * angle for each texlet from its normal and viewing ray.
+    */
+  void
+  setNoiseContext (const texlet::PixelContext &context) { noise_context_ = context; }
+  const texlet::PixelContext &
+  getNoiseContext () const { return noise_context_; }
+
+  /** \brief Camera model of the input. If none is set, a pinhole is estimated from the
+    * organised cloud itself (u = fx x/z + cx, v = fy y/z + cy) at each compute().
+    */
+  void
+  setCameraModel (const texlet::CameraModel::ConstPtr &camera) { camera_ = camera; }
+  texlet::CameraModel::ConstPtr
+  getCameraModel () const { return camera_; }
+
+  /** \brief All settings at once (validated). */
+  void
+  setParameters (const texlet::TexletParameters &params);
+  const texlet::TexletParameters &
+  getParameters () const { return params_; }
+
+  /** \brief OpenMP threads; 0 (default) uses all processors. */
+  void
+  setNumberOfThreads (unsigned int threads) { threads_ = threads; }
+
+protected:
+  /** \brief Checks the input (organised, indices in range) and builds the hexagonal grid
+    * of centres when the user set no indices. \throws on bad input.
+    */
+  bool
+  initCompute () override;
+
+  /** \brief Computes one texlet per centre into \a output. */
+  void
+  computeFeature (PointCloudOut &output) override;
+
+private:
+  texlet::TexletParameters params_;
+  texlet::NoiseModel noise_;
+  texlet::PixelContext noise_context_;
+  texlet::CameraModel::ConstPtr camera_;
+  unsigned int threads_ = 0;
+  std::vector<double> sigma_image_; // per-pixel depth SD in metres, reused across frames
+  // Per-pixel distance from the principal point (the noise model's r), kept while the camera
+  // object, the image size and the distances at five probe pixels stay the same.
+  std::vector<double> radius_image_;
+  texlet::CameraModel::ConstPtr radius_camera_;
+  std::uint32_t radius_width_ = 0, radius_height_ = 0;
+  double radius_probe_[5] = {0, 0, 0, 0, 0};
+
+public:
+  PCL_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+} // namespace pcl
+
+#ifdef PCL_NO_PRECOMPILE
+#include <pcl_texlet/features/impl/texlet_estimation.hpp>
+#endif

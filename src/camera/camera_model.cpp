@@ -1,0 +1,147 @@
+#include <pcl_texlet/camera/openni_fov_model.h>
+#include <pcl_texlet/camera/pinhole_model.h>
+
+#include <pcl/exceptions.h>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace pcl
+{
+namespace texlet
+{
+
+// --- PinholeModel ----------------------------------------------------------------------------
+
+PinholeModel::PinholeModel (double fx, double fy, double cx, double cy, const kernels::PlumbBob &d)
+  : fx_ (fx), fy_ (fy), cx_ (cx), cy_ (cy), d_ (d)
+{
+  const bool finite = std::isfinite (fx) && std::isfinite (fy) && std::isfinite (cx) && std::isfinite (cy) &&
+                      std::isfinite (d.k1) && std::isfinite (d.k2) && std::isfinite (d.p1) && std::isfinite (d.p2) &&
+                      std::isfinite (d.k3);
+  if (!(fx > 0) || !(fy > 0) || !finite)
+  {
+    std::ostringstream msg;
+    msg << "PinholeModel: focal lengths must be positive and all intrinsics finite (got fx " << fx << ", fy " << fy
+        << ", cx " << cx << ", cy " << cy << ", k1 k2 p1 p2 k3 " << d.k1 << " " << d.k2 << " " << d.p1 << " " << d.p2
+        << " " << d.k3 << ")";
+    throw pcl::BadArgumentException (msg.str ());
+  }
+}
+
+PinholeModel
+PinholeModel::fromCameraInfo (const CameraInfo &info)
+{
+  kernels::PlumbBob d;
+  if (info.distortion_model == "plumb_bob" && info.D.size () == 5)
+    d = {info.D[0], info.D[1], info.D[2], info.D[3], info.D[4]};
+  else
+    for (const double c : info.D)
+      if (c != 0)
+        throw pcl::BadArgumentException ("PinholeModel: distortion model '" + info.distortion_model +
+                                         "' is not supported (only plumb_bob with 5 coefficients)");
+  return PinholeModel (info.fx (), info.fy (), info.cx (), info.cy (), d);
+}
+
+bool
+PinholeModel::hasDistortion () const
+{
+  return d_.k1 != 0 || d_.k2 != 0 || d_.p1 != 0 || d_.p2 != 0 || d_.k3 != 0;
+}
+
+void
+PinholeModel::pixelToRay (double u, double v, double &x, double &y) const
+{
+  const double xd = (u - cx_) / fx_, yd = (v - cy_) / fy_;
+  if (!hasDistortion ())
+  {
+    x = xd;
+    y = yd;
+    return;
+  }
+  if (!kernels::undistortPlumbBob (d_, xd, yd, x, y))
+    x = y = std::numeric_limits<double>::quiet_NaN ();
+}
+
+void
+PinholeModel::project (double X, double Y, double Z, double &u, double &v) const
+{
+  double xd, yd;
+  kernels::distortPlumbBob (d_, X / Z, Y / Z, xd, yd);
+  u = fx_ * xd + cx_;
+  v = fy_ * yd + cy_;
+}
+
+double
+PinholeModel::principalPointDistance (double u, double v) const
+{
+  return std::hypot (u - cx_, v - cy_);
+}
+
+// --- OpenNIFovModel --------------------------------------------------------------------------
+
+OpenNIFovModel::OpenNIFovModel (int width, int height, double hfov, double vfov)
+  : width_ (width), height_ (height), hfov_ (hfov), vfov_ (vfov), tan_h_ (std::tan (hfov / 2)), tan_v_ (std::tan (vfov / 2))
+{
+  if (width <= 0 || height <= 0 || !(hfov > 0 && hfov < M_PI) || !(vfov > 0 && vfov < M_PI))
+  {
+    std::ostringstream msg;
+    msg << "OpenNIFovModel: resolution must be positive and fields of view in (0, pi) radians (got " << width << "x"
+        << height << ", hfov " << hfov << ", vfov " << vfov << ")";
+    throw pcl::BadArgumentException (msg.str ());
+  }
+}
+
+namespace
+{
+/** Field of view of a focal length \a f over \a pixels. */
+double
+fov (double pixels, double f) { return 2 * std::atan (pixels / (2 * f)); }
+
+constexpr double kKinectIrFocalVga = 120.0 / (2 * 0.1052); // PS1080: ZPD / (2 ZPPS), pixels at 640 wide
+constexpr double kKinectRgbFocalVga = 525.0;
+} // namespace
+
+OpenNIFovModel
+OpenNIFovModel::kinectIr (int width, int height)
+{
+  const double f = kKinectIrFocalVga * width / 640.0;
+  return OpenNIFovModel (width, height, fov (width, f), fov (height, f));
+}
+
+OpenNIFovModel
+OpenNIFovModel::kinectRgb (int width, int height)
+{
+  const double f = kKinectRgbFocalVga * width / 640.0;
+  return OpenNIFovModel (width, height, fov (width, f), fov (height, f));
+}
+
+void
+OpenNIFovModel::pixelToRay (double u, double v, double &x, double &y) const
+{
+  x = 2 * (u / width_ - 0.5) * tan_h_;  // Eq. 1 and 2
+  y = 2 * (v / height_ - 0.5) * tan_v_; // Eq. 1 and 3, y down
+}
+
+void
+OpenNIFovModel::project (double X, double Y, double Z, double &u, double &v) const
+{
+  u = width_ * (0.5 + X / (2 * Z * tan_h_));
+  v = height_ * (0.5 + Y / (2 * Z * tan_v_));
+}
+
+double
+OpenNIFovModel::principalPointDistance (double u, double v) const
+{
+  return std::hypot (u - 0.5 * width_, v - 0.5 * height_);
+}
+
+double
+OpenNIFovModel::equivalentFx () const { return width_ / (2 * tan_h_); }
+
+double
+OpenNIFovModel::equivalentFy () const { return height_ / (2 * tan_v_); }
+
+} // namespace texlet
+} // namespace pcl

@@ -1,0 +1,725 @@
+#include <pcl_texlet/report/lab_report.h>
+#include <pcl_texlet/io/noise_model_io.h>
+#include <pcl_texlet/noise/noise_terms.h>
+
+#include <pcl/exceptions.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace lab
+{
+
+namespace
+{
+
+void
+say (const ModelLab &lab, const std::string &line)
+{
+  if (lab.settings ().progress)
+    lab.settings ().progress (line);
+}
+
+nlohmann::json
+metricsJson (const LabMetrics &m)
+{
+  nlohmann::json j = {{"sd_rmse_mm", m.sd_rmse_mm},        {"bias_rmse_mm", m.bias_rmse_mm},
+                      {"nll", m.nll},                      {"within_1sigma", m.within_1sigma},
+                      {"within_2sigma", m.within_2sigma},  {"pixels", m.pixels},
+                      {"samples", m.samples}};
+  const TexletConsistency &t = m.texlets;
+  if (t.samples > 0) // computed for the starting model and the steps, not for candidates
+  {
+    j["texlet_nees_p"] = t.nees_p;
+    j["texlet_nees_p_ideal"] = t.ideal_p;
+    j["texlet_nees_p_ratio"] = t.ratioP ();
+    j["texlet_nees_n"] = t.nees_n;
+    j["texlet_nees_n_ideal"] = t.ideal_n;
+    j["texlet_nees_n_ratio"] = t.ratioN ();
+    j["texlet_nees_p_normal"] = t.nees_p_normal;
+    j["texlet_nees_p_normal_ratio"] = t.ratioPNormal ();
+    j["texlet_nees_p_median"] = t.median_p;
+    j["texlet_nees_p_median_ratio"] = t.medianRatioP ();
+    j["texlet_nees_n_median"] = t.median_n;
+    j["texlet_nees_n_median_ratio"] = t.medianRatioN ();
+    j["texlets"] = t.texlets;
+    j["texlet_samples"] = t.samples;
+  }
+  return j;
+}
+
+/** The texlet NEES of \a model on the lab's recordings (Analytic uncertainty, a frame subsample). */
+TexletConsistency
+texletMetrics (const ModelLab &lab, const NoiseModel &model)
+{
+  TexletConsistencySettings settings;
+  settings.threads = static_cast<unsigned> (std::max (0, lab.settings ().threads));
+  return texletConsistency (lab.recordings (), model, settings);
+}
+
+nlohmann::json
+termsJson (const NoiseModel &model)
+{
+  nlohmann::json terms = nlohmann::json::array ();
+  for (const auto &t : model.terms ())
+  {
+    nlohmann::json term;
+    term["name"] = t->name ();
+    nlohmann::json params = nlohmann::json::object ();
+    const auto names = t->parameterNames ();
+    const auto values = t->parameters ();
+    for (std::size_t k = 0; k < names.size (); ++k)
+      params[names[k]] = values[k];
+    term["parameters"] = params;
+    if (const auto e = std::dynamic_pointer_cast<const EffectTerm> (t))
+      for (const auto &s : e->settings ())
+        term["settings"][s.first] = s.second;
+    terms.push_back (term);
+  }
+  return terms;
+}
+
+std::string
+base64 (const std::string &in)
+{
+  static const char *table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve ((in.size () + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < in.size (); i += 3)
+  {
+    const unsigned v = (unsigned char) in[i] << 16 | (unsigned char) in[i + 1] << 8 | (unsigned char) in[i + 2];
+    out += table[v >> 18 & 63];
+    out += table[v >> 12 & 63];
+    out += table[v >> 6 & 63];
+    out += table[v & 63];
+  }
+  if (i + 1 == in.size ())
+  {
+    const unsigned v = (unsigned char) in[i] << 16;
+    out += table[v >> 18 & 63];
+    out += table[v >> 12 & 63];
+    out += "==";
+  }
+  else if (i + 2 == in.size ())
+  {
+    const unsigned v = (unsigned char) in[i] << 16 | (unsigned char) in[i + 1] << 8;
+    out += table[v >> 18 & 63];
+    out += table[v >> 12 & 63];
+    out += table[v >> 6 & 63];
+    out += '=';
+  }
+  return out;
+}
+
+std::string
+readFile (const std::string &path)
+{
+  std::ifstream in (path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf ();
+  return s.str ();
+}
+
+/** Writes \a text to \a path through a temporary file renamed when complete. */
+void
+writeFileAtomic (const std::string &path, const std::string &text)
+{
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out (tmp, std::ios::binary);
+    out << text;
+    if (!out)
+    {
+      std::remove (tmp.c_str ());
+      throw pcl::IOException ("lab report: cannot write '" + path + "'");
+    }
+  }
+  if (std::rename (tmp.c_str (), path.c_str ()) != 0)
+  {
+    std::remove (tmp.c_str ());
+    throw pcl::IOException ("lab report: cannot rename '" + tmp + "' to '" + path + "'");
+  }
+}
+
+std::string
+escape (const std::string &s)
+{
+  std::string o;
+  for (char c : s)
+  {
+    if (c == '<')
+      o += "&lt;";
+    else if (c == '>')
+      o += "&gt;";
+    else if (c == '&')
+      o += "&amp;";
+    else
+      o += c;
+  }
+  return o;
+}
+
+std::string
+fmt (double x, int precision = 4)
+{
+  std::ostringstream s;
+  s << std::setprecision (precision) << x;
+  return s.str ();
+}
+
+std::string
+baseName (const std::string &path)
+{
+  std::string p = path;
+  while (p.size () > 1 && p.back () == '/')
+    p.pop_back ();
+  const auto k = p.find_last_of ('/');
+  return k == std::string::npos ? p : p.substr (k + 1);
+}
+
+/** Runs gnuplot on \a script; the PNG it writes is renamed into place by the caller. */
+void
+gnuplot (const std::string &script_path)
+{
+  const std::string cmd = "gnuplot '" + script_path + "' 2>'" + script_path + ".err'";
+  if (std::system (cmd.c_str ()) != 0)
+    throw pcl::IOException ("lab report: gnuplot failed on '" + script_path + "': " + readFile (script_path + ".err"));
+}
+
+/** Per-pixel measured and predicted SD and mean of recording r under a model. */
+struct PixelComparison
+{
+  std::vector<float> sd_pred, mean_pred;
+};
+
+struct CovariateCurve
+{
+  std::string name, unit;
+  std::vector<double> x, ratio_mean, ratio_se, bias_mean, bias_se;
+};
+
+/** Binned SD ratio and bias residual against one covariate, over every recording. */
+CovariateCurve
+covariateCurve (const ModelLab &lab, const std::vector<PixelComparison> &cmp, const std::string &name,
+                const std::string &unit, double (*value) (const ModelLab &, std::size_t, std::size_t), bool discrete)
+{
+  CovariateCurve c;
+  c.name = name;
+  c.unit = unit;
+  double lo = std::numeric_limits<double>::infinity (), hi = -lo;
+  const auto &recs = lab.recordings ();
+  for (std::size_t r = 0; r < recs.size (); ++r)
+    for (std::size_t i = 0; i < recs[r]->used.size (); ++i)
+      if (recs[r]->used[i] && std::isfinite (cmp[r].sd_pred[i]))
+      {
+        const double v = value (lab, r, i);
+        lo = std::min (lo, v);
+        hi = std::max (hi, v);
+      }
+  if (!(hi >= lo))
+    return c;
+  const int nb = discrete ? static_cast<int> (hi - lo + 1.5) : 16;
+  std::vector<double> n (nb, 0), s1 (nb, 0), s2 (nb, 0), b1 (nb, 0), b2 (nb, 0), xs (nb, 0);
+  for (std::size_t r = 0; r < recs.size (); ++r)
+    for (std::size_t i = 0; i < recs[r]->used.size (); ++i)
+    {
+      if (!recs[r]->used[i] || !std::isfinite (cmp[r].sd_pred[i]) || !(cmp[r].sd_pred[i] > 0))
+        continue;
+      const double v = value (lab, r, i);
+      int b = discrete ? static_cast<int> (v - lo + 0.5) : static_cast<int> (nb * (v - lo) / (hi - lo + 1e-12));
+      b = std::max (0, std::min (nb - 1, b));
+      const double ratio = recs[r]->sd_mm[i] / cmp[r].sd_pred[i];
+      const double bias = recs[r]->mean_mm[i] - cmp[r].mean_pred[i];
+      n[b] += 1;
+      xs[b] += v;
+      s1[b] += ratio;
+      s2[b] += ratio * ratio;
+      b1[b] += bias;
+      b2[b] += bias * bias;
+    }
+  for (int b = 0; b < nb; ++b)
+  {
+    if (n[b] < 5)
+      continue;
+    const double m = s1[b] / n[b], bm = b1[b] / n[b];
+    c.x.push_back (xs[b] / n[b]);
+    c.ratio_mean.push_back (m);
+    c.ratio_se.push_back (std::sqrt (std::max (0.0, s2[b] / n[b] - m * m) / n[b]));
+    c.bias_mean.push_back (bm);
+    c.bias_se.push_back (std::sqrt (std::max (0.0, b2[b] / n[b] - bm * bm) / n[b]));
+  }
+  return c;
+}
+
+double covRadius (const ModelLab &l, std::size_t r, std::size_t i) { return l.context (r, i).radius_px; }
+double covDepth (const ModelLab &l, std::size_t r, std::size_t i) { return l.recordings ()[r]->surface_mm[i]; }
+double covIncidence (const ModelLab &l, std::size_t r, std::size_t i)
+{
+  return std::acos (std::min (1.0f, l.recordings ()[r]->cos_incidence[i])) * 57.29577951308232;
+}
+double covColumn (const ModelLab &l, std::size_t r, std::size_t i) { return double (i % l.recordings ()[r]->width); }
+double covRow (const ModelLab &l, std::size_t r, std::size_t i) { return double (i / l.recordings ()[r]->width); }
+double covPhase (const ModelLab &l, std::size_t r, std::size_t i) { return l.recordings ()[r]->phase[i]; }
+double covEdge (const ModelLab &l, std::size_t r, std::size_t i)
+{
+  return std::min (40.0f, l.recordings ()[r]->edge_distance_px[i]);
+}
+double covProjectors (const ModelLab &l, std::size_t r, std::size_t) { return l.recordings ()[r]->active_projectors; }
+
+struct Region
+{
+  std::string text;
+  double score;
+};
+
+} // namespace
+
+LabSession
+runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &start_name,
+               const std::vector<std::string> &add, int auto_count)
+{
+  LabSession s;
+  s.start_name = start_name;
+  s.start = start;
+  say (lab, "lab: comparing the model '" + start_name + "' with the recordings");
+  s.start_metrics = lab.evaluate (start);
+  say (lab, "lab: texlet NEES of P and N across frames under '" + start_name + "'");
+  s.start_metrics.texlets = texletMetrics (lab, start);
+  say (lab, "lab: ranking the candidate effects (fit on even frames, score on odd frames)");
+  s.candidates = lab.rankCandidates (start);
+  if (!lab.splitsFrames ())
+    s.notes.push_back ("a recording has fewer than 4 frames: the halves are a checkerboard of 32 px blocks, not even "
+                       "and odd frames, and effects that change over time cannot be tested");
+  NoiseModel current = start;
+  for (const auto &effect : add)
+  {
+    say (lab, "lab: adding " + effect + " and refitting");
+    current = lab.addEffect (current, effect);
+    s.steps.push_back ({effect, lab.evaluate (current), current, false});
+    s.steps.back ().metrics.texlets = texletMetrics (lab, current);
+  }
+  std::vector<Candidate> ranking = s.candidates;
+  for (int k = 0; k < auto_count; ++k)
+  {
+    if (!s.steps.empty () && (k > 0 || !add.empty ()))
+    {
+      say (lab, "lab: re-ranking the candidates against the model with " + s.steps.back ().added);
+      ranking = lab.rankCandidates (current);
+    }
+    const Candidate *best = nullptr;
+    for (const auto &c : ranking)
+      if (c.applicable && c.significant && !current.find (c.effect))
+      {
+        best = &c;
+        break;
+      }
+    if (!best)
+    {
+      s.notes.push_back ("--auto: no significant candidate left after " + std::to_string (k) + " added effect(s)");
+      break;
+    }
+    say (lab, "lab: adding " + best->effect + " (best significant candidate) and refitting");
+    current = lab.addEffect (current, best->effect);
+    s.steps.push_back ({best->effect, lab.evaluate (current), current, true});
+    s.steps.back ().metrics.texlets = texletMetrics (lab, current);
+  }
+  s.final_model = s.steps.empty () ? lab.fit (start) : s.steps.back ().model;
+  return s;
+}
+
+std::string
+labReportJson (const LabSession &s)
+{
+  nlohmann::json j;
+  j["model"] = {{"name", s.start_name}, {"terms", termsJson (s.start)}};
+  j["metrics"] = metricsJson (s.start_metrics);
+  nlohmann::json cands = nlohmann::json::array ();
+  for (const auto &c : s.candidates)
+  {
+    nlohmann::json cj;
+    cj["effect"] = c.effect;
+    cj["metrics"] = metricsJson (c.metrics);
+    cj["gain"] = c.gain;
+    cj["significant"] = c.significant;
+    cj["threshold"] = c.threshold;
+    cj["null_mean"] = c.null_mean;
+    cj["null_sd"] = c.null_sd;
+    cj["total_gain_nats"] = c.total_gain;
+    cj["applicable"] = c.applicable;
+    cj["physics"] = c.physics;
+    cj["signature"] = c.signature;
+    if (!c.note.empty ())
+      cj["note"] = c.note;
+    cands.push_back (cj);
+  }
+  j["candidates"] = cands;
+  nlohmann::json steps = nlohmann::json::array ();
+  for (const auto &st : s.steps)
+    steps.push_back ({{"added", st.added}, {"metrics", metricsJson (st.metrics)}, {"auto", st.from_auto},
+                      {"terms", termsJson (st.model)}});
+  j["steps"] = steps;
+  j["skipped_frames"] = s.skipped_frames;
+  j["notes"] = s.notes;
+  return j.dump (2) + "\n";
+}
+
+void
+writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &folder)
+{
+  ::mkdir (folder.c_str (), 0755);
+  struct stat st;
+  if (::stat (folder.c_str (), &st) != 0 || !S_ISDIR (st.st_mode) || ::access (folder.c_str (), W_OK) != 0)
+    throw pcl::IOException ("lab report: '" + folder + "' is not a writable folder");
+  const std::string work = folder + "/.plots-tmp";
+  ::mkdir (work.c_str (), 0755);
+  const auto &recs = lab.recordings ();
+  say (lab, "lab: drawing the plots");
+
+  // --- per-pixel comparisons of the start and the final model
+  std::vector<PixelComparison> first (recs.size ()), last (recs.size ());
+  for (std::size_t r = 0; r < recs.size (); ++r)
+  {
+    lab.predict (s.start, r, first[r].sd_pred, first[r].mean_pred);
+    lab.predict (s.final_model, r, last[r].sd_pred, last[r].mean_pred);
+  }
+  std::vector<std::string> pngs;
+  auto png = [&] (const std::string &name) {
+    pngs.push_back (name);
+    return folder + "/" + name;
+  };
+
+  // --- staircase: the error after each added effect
+  {
+    std::ofstream d (work + "/staircase.dat");
+    d << "0 " << s.start_metrics.sd_rmse_mm << " " << s.start_metrics.bias_rmse_mm << " " << s.start_metrics.nll
+      << " start\n";
+    for (std::size_t k = 0; k < s.steps.size (); ++k)
+      d << k + 1 << " " << s.steps[k].metrics.sd_rmse_mm << " " << s.steps[k].metrics.bias_rmse_mm << " "
+        << s.steps[k].metrics.nll << " +" << s.steps[k].added << "\n";
+    d.close ();
+    std::ofstream g (work + "/staircase.gp");
+    const std::string out = png ("staircase.png") + ".tmp";
+    g << "set terminal pngcairo size 820,460 font 'Sans,10'\nset output '" << out << "'\n"
+      << "set title 'Watch the error fall: the model after each added effect (all data, refitted)'\n"
+      << "set ylabel 'RMS error (mm)'\nset y2label 'NLL per depth sample (nats)'\nset ytics nomirror\nset y2tics\n"
+      << "set xrange [-0.5:" << s.steps.size () + 0.5 << "]\nset yrange [0:*]\nset grid\nset key top right\n"
+      << "set xtics rotate by -20\n"
+      << "plot '" << work << "/staircase.dat' using 1:2:xtic(5) with histeps lw 3 title 'sd\\_rmse\\_mm', "
+      << "'' using 1:2 with points pt 7 notitle, "
+      << "'' using 1:3 with histeps lw 3 title 'bias\\_rmse\\_mm', '' using 1:3 with points pt 7 notitle, "
+      << "'' using 1:4 axes x1y2 with histeps lw 2 dt 2 title 'nll (right axis)'\n";
+    g.close ();
+    gnuplot (work + "/staircase.gp");
+    std::rename (out.c_str (), (folder + "/staircase.png").c_str ());
+  }
+
+  // --- maps of the SD ratio and the bias residual, one panel per recording (up to 6)
+  std::vector<Region> regions;
+  auto maps = [&] (const std::vector<PixelComparison> &cmp, const std::string &tag, const std::string &label) {
+    const std::size_t R = std::min<std::size_t> (recs.size (), 6);
+    double bias_scale = 0;
+    std::vector<double> all_bias;
+    for (std::size_t r = 0; r < R; ++r)
+    {
+      const auto &m = *recs[r];
+      const int f = std::max (1, (m.width + 159) / 160);
+      std::ofstream ra (work + "/ratio_" + tag + std::to_string (r) + ".dat"),
+          bi (work + "/bias_" + tag + std::to_string (r) + ".dat");
+      for (int by = 0; by < m.height / f; ++by)
+      {
+        for (int bx = 0; bx < m.width / f; ++bx)
+        {
+          double sr = 0, sb = 0, n = 0;
+          for (int y = by * f; y < (by + 1) * f; ++y)
+            for (int x = bx * f; x < (bx + 1) * f; ++x)
+            {
+              const std::size_t i = static_cast<std::size_t> (y) * m.width + x;
+              if (!m.used[i] || !(cmp[r].sd_pred[i] > 0))
+                continue;
+              sr += m.sd_mm[i] / cmp[r].sd_pred[i];
+              sb += m.mean_mm[i] - cmp[r].mean_pred[i];
+              n += 1;
+            }
+          ra << (n > 0 ? fmt (std::max (0.05, sr / n)) : "NaN") << " ";
+          bi << (n > 0 ? fmt (sb / n) : "NaN") << " ";
+          if (n > 0)
+            all_bias.push_back (std::fabs (sb / n));
+        }
+        ra << "\n";
+        bi << "\n";
+      }
+      // Worst 32 px blocks of the starting model, for the text.
+      if (tag == "start")
+        for (int v0 = 0; v0 + 16 <= m.height; v0 += 32)
+          for (int u0 = 0; u0 + 16 <= m.width; u0 += 32)
+          {
+            double sr = 0, sb = 0, n = 0;
+            for (int y = v0; y < std::min (m.height, v0 + 32); ++y)
+              for (int x = u0; x < std::min (m.width, u0 + 32); ++x)
+              {
+                const std::size_t i = static_cast<std::size_t> (y) * m.width + x;
+                if (!m.used[i] || !(cmp[r].sd_pred[i] > 0))
+                  continue;
+                sr += std::log (m.sd_mm[i] / cmp[r].sd_pred[i]);
+                sb += m.mean_mm[i] - cmp[r].mean_pred[i];
+                n += 1;
+              }
+            if (n < 100)
+              continue;
+            const double ratio = std::exp (sr / n), bias = sb / n;
+            std::ostringstream t;
+            t << baseName (m.name) << ", columns " << u0 << "-" << std::min (m.width, u0 + 32) - 1 << ", rows " << v0
+              << "-" << std::min (m.height, v0 + 32) - 1 << ": measured SD " << fmt (ratio, 3)
+              << " x the predicted, mean bias residual " << fmt (bias, 3) << " mm";
+            regions.push_back ({t.str (), std::fabs (std::log (ratio)) + std::fabs (bias) / 10.0});
+          }
+    }
+    std::sort (all_bias.begin (), all_bias.end ());
+    bias_scale = all_bias.empty () ? 1.0 : std::max (0.5, all_bias[all_bias.size () * 98 / 100]);
+    for (int which = 0; which < 2; ++which)
+    {
+      const std::string kind = which ? "bias" : "sd_ratio";
+      const std::string name = kind + "_map_" + tag + ".png";
+      const std::string out = png (name) + ".tmp";
+      std::ofstream g (work + "/" + kind + tag + ".gp");
+      const int cols = static_cast<int> (std::min<std::size_t> (R, 3)), rows = static_cast<int> ((R + 2) / 3);
+      g << "set terminal pngcairo size " << 300 * cols + 60 << "," << 250 * rows + 40 << " font 'Sans,9'\n"
+        << "set output '" << out << "'\n"
+        << "set multiplot layout " << rows << "," << cols << " title '" << label << ": "
+        << (which ? "mean minus predicted mean (mm)" : "measured SD / predicted SD (log colour scale)") << "'\n"
+        << "set yrange [*:*] reverse\nset size ratio -1\nunset xtics\nunset ytics\n"
+        << (which ? "set palette defined (-1 'blue', 0 'white', 1 'red')\nset cbrange [" + fmt (-bias_scale) + ":" +
+                        fmt (bias_scale) + "]\n"
+                  : "set palette defined (-1 'blue', 0 'white', 1 'red')\nset logscale cb\nset cbrange [0.25:4]\nset cbtics ('0.25' 0.25, '0.5' 0.5, '1' 1, '2' 2, '4' 4)\n");
+      for (std::size_t r = 0; r < R; ++r)
+        g << "set title '" << baseName (recs[r]->name) << "' noenhanced\nplot '" << work << "/"
+          << (which ? "bias_" : "ratio_") << tag << r << ".dat' matrix with image notitle\n";
+      g << "unset multiplot\n";
+      g.close ();
+      gnuplot (work + "/" + kind + tag + ".gp");
+      std::rename (out.c_str (), (folder + "/" + name).c_str ());
+    }
+  };
+  maps (first, "start", "Starting model");
+  if (!s.steps.empty ())
+    maps (last, "final", "Final model");
+  std::sort (regions.begin (), regions.end (), [] (const Region &a, const Region &b) { return a.score > b.score; });
+
+  // --- residuals against each covariate (start and final model), with standard errors
+  struct Cov
+  {
+    const char *name, *unit;
+    double (*f) (const ModelLab &, std::size_t, std::size_t);
+    bool discrete;
+  };
+  const Cov covs[] = {{"radius", "px", covRadius, false},       {"depth", "mm", covDepth, false},
+                      {"incidence angle", "deg", covIncidence, false}, {"column", "px", covColumn, false},
+                      {"row", "px", covRow, false},             {"sub-step phase", "1", covPhase, false},
+                      {"edge distance", "px (40 = none)", covEdge, false}, {"active projectors", "1", covProjectors, true}};
+  std::vector<Region> worst_covariates;
+  for (int which = 0; which < 2; ++which)
+  {
+    const std::string name = which ? "bias_vs_covariates.png" : "sd_ratio_vs_covariates.png";
+    const std::string out = png (name) + ".tmp";
+    std::ofstream g (work + "/cov" + std::to_string (which) + ".gp");
+    g << "set terminal pngcairo size 1200,820 font 'Sans,9'\nset output '" << out << "'\n"
+      << "set multiplot layout 3,3 title '"
+      << (which ? "Mean bias residual (mean - predicted, mm) against each covariate, +- 1 standard error"
+                : "Measured SD / predicted SD against each covariate, +- 1 standard error")
+      << "'\nset grid\nset key top left font ',8'\n";
+    int panel = 0;
+    for (const Cov &cv : covs)
+    {
+      const CovariateCurve a = covariateCurve (lab, first, cv.name, cv.unit, cv.f, cv.discrete);
+      const CovariateCurve b = covariateCurve (lab, last, cv.name, cv.unit, cv.f, cv.discrete);
+      const std::string file = work + "/cov" + std::to_string (which) + "_" + std::to_string (panel++) + ".dat";
+      std::ofstream d (file);
+      for (std::size_t k = 0; k < a.x.size (); ++k)
+        d << a.x[k] << " " << (which ? a.bias_mean[k] : a.ratio_mean[k]) << " " << (which ? a.bias_se[k] : a.ratio_se[k])
+          << "\n";
+      d << "\n\n";
+      for (std::size_t k = 0; k < b.x.size (); ++k)
+        d << b.x[k] << " " << (which ? b.bias_mean[k] : b.ratio_mean[k]) << " " << (which ? b.bias_se[k] : b.ratio_se[k])
+          << "\n";
+      d.close ();
+      if (!which)
+      {
+        // The covariate's worst bin, if it is off by more than 25 %.
+        std::size_t worst = a.x.size ();
+        for (std::size_t k = 0; k < a.x.size (); ++k)
+          if (std::fabs (std::log (a.ratio_mean[k])) > std::log (1.25) &&
+              (worst == a.x.size () || std::fabs (std::log (a.ratio_mean[k])) > std::fabs (std::log (a.ratio_mean[worst]))))
+            worst = k;
+        if (worst < a.x.size ())
+          worst_covariates.push_back ({std::string (cv.name) + " near " + fmt (a.x[worst], 4) + " " + cv.unit +
+                                           ": measured SD " + fmt (a.ratio_mean[worst], 3) + " x the predicted",
+                                       std::fabs (std::log (a.ratio_mean[worst]))});
+      }
+      g << "set xlabel '" << cv.name << " (" << cv.unit << ")'\n"
+        << (which ? "set ylabel 'mm'\n" : "set ylabel 'ratio'\n")
+        << "plot '" << file << "' index 0 using 1:2:3 with yerrorlines pt 7 ps 0.5 title 'start', "
+        << (s.steps.empty () ? "" : "'" + file + "' index 1 using 1:2:3 with yerrorlines pt 5 ps 0.5 title 'final', ")
+        << (which ? "0" : "1") << " with lines lc 'black' dt 2 notitle\n";
+    }
+    // The ninth panel: the per-frame offset (drift), measured and predicted, averaged over recordings.
+    {
+      const std::string file = work + "/frames" + std::to_string (which) + ".dat";
+      std::ofstream d (file);
+      std::map<int, std::vector<double>> meas, pa, pb;
+      for (std::size_t r = 0; r < recs.size (); ++r)
+      {
+        std::vector<double> p0, m0, p1, m1;
+        lab.frameCurve (s.start, r, p0, m0);
+        lab.frameCurve (s.final_model, r, p1, m1);
+        for (std::size_t t = 0; t < m0.size (); ++t)
+          if (std::isfinite (m0[t]))
+          {
+            meas[static_cast<int> (t)].push_back (m0[t]);
+            pa[static_cast<int> (t)].push_back (p0[t]);
+            pb[static_cast<int> (t)].push_back (p1[t]);
+          }
+      }
+      auto mean = [] (const std::vector<double> &v) {
+        double s = 0;
+        for (double x : v)
+          s += x;
+        return v.empty () ? 0.0 : s / v.size ();
+      };
+      for (const auto &kv : meas)
+        d << kv.first << " " << mean (kv.second) << " " << mean (pa[kv.first]) << " " << mean (pb[kv.first]) << "\n";
+      d.close ();
+      g << "set xlabel 'frame index'\nset ylabel 'mm at the centre'\n"
+        << "plot '" << file << "' using 1:2 with linespoints pt 7 ps 0.5 title 'measured frame offset', '' using 1:3 "
+        << "with lines lw 2 title 'start', '' using 1:4 with lines lw 2 dt 2 title 'final'\n";
+    }
+    g << "unset multiplot\n";
+    g.close ();
+    gnuplot (work + "/cov" + std::to_string (which) + ".gp");
+    std::rename (out.c_str (), (folder + "/" + name).c_str ());
+  }
+
+  // --- model.yaml, report.json
+  saveNoiseModelYaml (folder + "/model.yaml", s.final_model);
+  writeFileAtomic (folder + "/report.json", labReportJson (s));
+
+  // --- report.html
+  std::ostringstream h;
+  auto metricsRow = [&] (const std::string &what, const LabMetrics &m) {
+    h << "<tr><td>" << escape (what) << "</td><td>" << fmt (m.sd_rmse_mm) << "</td><td>" << fmt (m.bias_rmse_mm)
+      << "</td><td>" << fmt (m.nll) << "</td><td>" << fmt (100 * m.within_1sigma, 3) << " %</td><td>"
+      << fmt (100 * m.within_2sigma, 3) << " %</td><td>" << fmt (m.texlets.nees_p, 3) << " ("
+      << fmt (m.texlets.ratioP (), 3) << " x; median " << fmt (m.texlets.medianRatioP (), 3) << " x)</td><td>"
+      << fmt (m.texlets.nees_n, 3) << " (" << fmt (m.texlets.ratioN (), 3) << " x; median "
+      << fmt (m.texlets.medianRatioN (), 3) << " x)</td><td>" << m.texlets.texlets << "</td></tr>\n";
+  };
+  auto image = [&] (const std::string &name, const std::string &caption) {
+    h << "<figure><img src=\"data:image/png;base64," << base64 (readFile (folder + "/" + name)) << "\" alt=\"" << name
+      << "\"><figcaption>" << escape (caption) << "</figcaption></figure>\n";
+  };
+  h << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>pcl_texlet model lab</title><style>"
+    << "body{font-family:sans-serif;max-width:1250px;margin:auto;padding:1em}table{border-collapse:collapse;margin:"
+    << "0.5em 0}td,th{border:1px solid #bbb;padding:3px 7px;font-size:90%}th{background:#eee}img{max-width:100%}"
+    << ".sig{color:#060;font-weight:bold}pre{background:#f6f6f6;padding:0.5em;overflow-x:auto;font-size:80%}"
+    << "</style></head><body>\n<h1>pcl_texlet model lab</h1>\n";
+  h << "<h2>Recordings</h2><table><tr><th>recording</th><th>frames</th><th>size</th><th>scene</th><th>projectors</th>"
+    << "<th>pixels compared</th><th>left out (too few valid frames)</th><th>never valid</th></tr>\n";
+  for (const auto &r : recs)
+    h << "<tr><td>" << escape (r->name) << "</td><td>" << r->frames << "</td><td>" << r->width << "x" << r->height
+      << "</td><td>" << escape (r->scene) << "</td><td>" << r->active_projectors << "</td><td>" << r->usedCount ()
+      << "</td><td>" << r->left_out << "</td><td>" << r->no_surface << "</td></tr>\n";
+  h << "</table>\n<h2>1-2. The model against the measurements</h2>\n<p>Starting model: <b>" << escape (s.start_name)
+    << "</b>. Metrics over all frames (NLL: Gaussian negative log-likelihood per depth sample, in nats, with the "
+       "frame and column offsets as separate parts; calibration: share of samples within 1 and 2 predicted SDs of "
+       "the predicted mean, 68.3 % and 95.4 % when calibrated).</p>\n<p>Texlet NEES: texlets extracted with the "
+       "model as their noise model (Analytic uncertainty, every disc point an inlier) at the same hexagonal-grid "
+       "centres in up to 15 evenly spaced frames of each recording; per centre, the mean NEES over frames of P "
+       "against its own Sigma_P and of N (its deviation from the mean normal in the texlet's tangent frame) "
+       "against Sigma_N. Ideal: 3 (n - 1) / n for P and 2 (n - 1) / n for N with n frames (the mean is "
+       "estimated); in brackets the ratio to the ideal (1 when calibrated, above 1 when the texlets are "
+       "over-confident) and that of the median NEES to its ideal (robust to a few texlets that jump).</p>\n<table><tr><th>model</th><th>sd_rmse_mm</th>"
+       "<th>bias_rmse_mm</th><th>nll</th><th>within 1 sigma</th><th>within 2 sigma</th><th>texlet NEES P</th>"
+       "<th>texlet NEES N</th><th>texlets</th></tr>\n";
+  metricsRow ("start: " + s.start_name, s.start_metrics);
+  for (const auto &st : s.steps)
+    metricsRow ("+ " + st.added, st.metrics);
+  h << "</table>\n<h2>3. Where it fails</h2>\n";
+  image ("sd_ratio_map_start.png", "Measured over predicted temporal SD per pixel, starting model (red: noisier than "
+                                   "predicted).");
+  image ("bias_map_start.png", "Mean depth minus the predicted mean (the surface fit plus the model's bias), "
+                               "starting model.");
+  image ("sd_ratio_vs_covariates.png", "SD ratio against each covariate (start and final model); the last panel "
+                                       "shows the mean offset of each frame.");
+  image ("bias_vs_covariates.png", "Bias residual against each covariate.");
+  h << "<p>Worst regions (32 px blocks) under the starting model:</p><ul>\n";
+  for (std::size_t k = 0; k < std::min<std::size_t> (regions.size (), 5); ++k)
+    h << "<li>" << escape (regions[k].text) << "</li>\n";
+  h << "</ul>\n<p>The worst bin of each covariate where the measured SD differs from the predicted by more "
+       "than 25 %, worst first:</p><ul>\n";
+  std::sort (worst_covariates.begin (), worst_covariates.end (),
+             [] (const Region &a, const Region &b) { return a.score > b.score; });
+  for (const auto &w : worst_covariates)
+    h << "<li>" << escape (w.text) << "</li>\n";
+  if (worst_covariates.empty ())
+    h << "<li>none</li>\n";
+  h << "</ul>\n<h2>4. What is missing: the candidates</h2>\n<p>Each effect not in the model was fitted together with "
+       "the model's terms on one half of the data and scored on the other. Gain: the fall of the held-out NLL per "
+       "sample against the current model refitted on the same half. Significant: the gain exceeds the mean of the "
+       "gains the same fit brings on "
+    << lab.settings ().null_replicates << " data sets drawn from the current model (no effect missing) by more than "
+    << lab.settings ().null_sigmas << " of their SDs, and the gain summed over the held-out samples is at least "
+    << lab.settings ().min_total_gain_nats << " nats (a likelihood ratio of at least e^"
+    << lab.settings ().min_total_gain_nats << " on data the fit did not see).</p>\n<table><tr><th>#</th><th>effect</th><th>gain (nats/sample)"
+    << "</th><th>threshold</th><th>significant</th><th>sd_rmse_mm</th><th>bias_rmse_mm</th><th>nll</th><th>shows in"
+    << "</th><th>physics</th></tr>\n";
+  for (std::size_t k = 0; k < s.candidates.size (); ++k)
+  {
+    const auto &c = s.candidates[k];
+    h << "<tr><td>" << k + 1 << "</td><td>" << c.effect << "</td>";
+    if (c.applicable)
+      h << "<td>" << fmt (c.gain) << "</td><td>" << fmt (c.threshold, 3) << "</td><td"
+        << (c.significant ? " class=\"sig\">yes" : ">no") << "</td><td>" << fmt (c.metrics.sd_rmse_mm) << "</td><td>"
+        << fmt (c.metrics.bias_rmse_mm) << "</td><td>" << fmt (c.metrics.nll) << "</td>";
+    else
+      h << "<td colspan=\"6\">not testable: " << escape (c.note) << "</td>";
+    h << "<td>" << escape (c.signature) << "</td><td>" << escape (c.physics) << "</td></tr>\n";
+  }
+  h << "</table>\n<h2>5. Add and refit: watch the error fall</h2>\n";
+  if (s.steps.empty ())
+    h << "<p>No effect was added (use --add EFFECT or --auto N). model.yaml holds the starting model refitted.</p>\n";
+  image ("staircase.png", "The error after each added effect (all data, every parameter refitted).");
+  if (!s.steps.empty ())
+  {
+    image ("sd_ratio_map_final.png", "SD ratio per pixel, final model.");
+    image ("bias_map_final.png", "Bias residual per pixel, final model.");
+  }
+  for (const auto &n : s.notes)
+    h << "<p><b>Note:</b> " << escape (n) << "</p>\n";
+  h << "<h2>6. The fitted model (model.yaml)</h2>\n<p>Load it with <code>pcl_texlet_extract --noise-model "
+       "model.yaml</code> or <code>pcl::texlet::loadNoiseModelYaml</code>.</p><pre>"
+    << escape (noiseModelToYaml (s.final_model)) << "</pre>\n</body></html>\n";
+  writeFileAtomic (folder + "/report.html", h.str ());
+  // The plot scripts and data are not part of the report.
+  const std::string clean = "rm -rf '" + work + "'";
+  if (std::system (clean.c_str ()) != 0)
+    say (lab, "lab: could not remove " + work);
+}
+
+} // namespace lab
+} // namespace texlet
+} // namespace pcl

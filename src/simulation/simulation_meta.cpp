@@ -1,0 +1,117 @@
+#include <pcl_texlet/simulation/simulation_meta.h>
+
+#include <pcl/exceptions.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <charconv>
+#include <cmath>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace sim
+{
+
+namespace
+{
+
+/** Shortest text that reads back as exactly \a v. */
+std::string
+number (double v)
+{
+  char buffer[32];
+  const std::to_chars_result r = std::to_chars (buffer, buffer + sizeof (buffer), v);
+  return std::string (buffer, r.ptr);
+}
+
+/** Whether \a model is exactly the paper's polynomial (what "base_noise: paper" reads back as). */
+bool
+isPaperModel (const NoiseModel &model)
+{
+  const NoiseModel paper = NoiseModel::paper ();
+  if (model.terms ().size () != 1 || model.minSigmaMm () != paper.minSigmaMm ())
+    return false;
+  const auto &t = model.terms ().front ();
+  return t->name () == paper.terms ().front ()->name () && t->parameters () == paper.terms ().front ()->parameters ();
+}
+
+} // namespace
+
+std::string
+simulationMetaYaml (const SceneSetup &setup, const KinectSimulator &simulator, std::size_t sensor,
+                    std::uint32_t first_frame, std::uint32_t frames)
+{
+  const DepthSensor &s = simulator.sensor (sensor);
+  const SimulationSettings &settings = simulator.settings ();
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  out << YAML::Key << "generator" << YAML::Value << "pcl_texlet KinectSimulator";
+  out << YAML::Key << "seed" << YAML::Value << settings.seed;
+  out << YAML::Key << "first_frame" << YAML::Value << first_frame;
+  out << YAML::Key << "frames" << YAML::Value << frames;
+  out << YAML::Key << "scene" << YAML::Value << setup.kind;
+  out << YAML::Key << "scene_parameters" << YAML::Value << YAML::BeginMap;
+  for (const auto &p : setup.parameters)
+    out << YAML::Key << p.first << YAML::Value << number (p.second);
+  out << YAML::EndMap;
+  if (setup.box_size_m.allFinite ())
+    out << YAML::Key << "box_size_m" << YAML::Value << YAML::Flow << YAML::BeginSeq << number (setup.box_size_m.x ())
+        << number (setup.box_size_m.y ()) << number (setup.box_size_m.z ()) << YAML::EndSeq;
+  if (!setup.mesh_path.empty ())
+    out << YAML::Key << "mesh" << YAML::Value << setup.mesh_path;
+  out << YAML::Key << "projectors" << YAML::Value << simulator.activeProjectors ();
+  out << YAML::Key << "sensors" << YAML::Value << simulator.sensorCount ();
+  out << YAML::Key << "sensor" << YAML::Value << sensor;
+  out << YAML::Key << "sensor_pose" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      out << number (s.pose.matrix () (r, c) + 0.0); // + 0.0: no "-0"
+  out << YAML::EndSeq;
+  out << YAML::Key << "render_camera" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "fx" << YAML::Value << number (s.fx) << YAML::Key << "fy" << YAML::Value << number (s.fy);
+  out << YAML::Key << "cx" << YAML::Value << number (s.cx) << YAML::Key << "cy" << YAML::Value << number (s.cy);
+  out << YAML::EndMap;
+  out << YAML::Key << "depth_range_m" << YAML::Value << YAML::Flow << YAML::BeginSeq << number (s.min_depth_m)
+      << number (s.max_depth_m) << YAML::EndSeq;
+
+  if (!settings.base_noise)
+    out << YAML::Key << "base_noise" << YAML::Value << "none";
+  else if (isPaperModel (settings.noise_model))
+    out << YAML::Key << "base_noise" << YAML::Value << "paper";
+  else
+  {
+    out << YAML::Key << "base_noise" << YAML::Value << "custom";
+    out << YAML::Key << "base_noise_terms" << YAML::Value << YAML::BeginMap;
+    for (const auto &t : settings.noise_model.terms ())
+    {
+      out << YAML::Key << t->name () << YAML::Value << YAML::Flow << YAML::BeginMap;
+      const auto names = t->parameterNames ();
+      const auto values = t->parameters ();
+      for (std::size_t k = 0; k < names.size () && k < values.size (); ++k)
+        out << YAML::Key << names[k] << YAML::Value << number (values[k]);
+      out << YAML::EndMap;
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::Key << "projector_shadows" << YAML::Value << settings.projector_shadows;
+
+  out << YAML::Key << "effects" << YAML::Value << YAML::BeginMap;
+  for (const std::string &name : enabledEffects (settings.effects))
+  {
+    out << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap;
+    for (const auto &p : effectInfo (name).parameters)
+      out << YAML::Key << p.name << YAML::Value << number (effectParameter (settings.effects, name, p.name));
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  out << YAML::EndMap;
+  if (!out.good ())
+    throw pcl::BadArgumentException ("meta.yaml: cannot format as YAML: " + out.GetLastError ());
+  return std::string (out.c_str ()) + "\n";
+}
+
+} // namespace sim
+} // namespace texlet
+} // namespace pcl

@@ -1,0 +1,25 @@
+# The texlet feature and what it builds on (camera, noise) load none of the heavy libraries the
+# other modules need: a PCL pipeline that uses pcl::TexletEstimation gets PCL's common, search
+# and features, and nothing of OpenNI, libpng, libtiff, yaml-cpp, Ceres, glog or VTK.
+# Run by CTest: cmake -DLIBRARIES="a.so;b.so" -P this
+find_program(LDD ldd REQUIRED)
+set(forbidden "OpenNI" "libpng" "libtiff" "yaml-cpp" "ceres" "glog" "vtk")
+foreach(lib ${LIBRARIES})
+  execute_process(COMMAND ${LDD} ${lib} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "ldd ${lib} failed (${rc}): ${err}")
+  endif()
+  string(REGEX MATCHALL "[^\n]+" lines "${out}")
+  list(LENGTH lines count)
+  foreach(name ${forbidden})
+    foreach(line ${lines})
+      string(TOLOWER "${line}" lower)
+      string(TOLOWER "${name}" lname)
+      if(lower MATCHES "${lname}")
+        message(FATAL_ERROR "${lib} loads ${line}")
+      endif()
+    endforeach()
+  endforeach()
+  get_filename_component(shown ${lib} NAME)
+  message(STATUS "${shown}: ${count} shared objects, none of ${forbidden}")
+endforeach()
