@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev libtiff-dev
   gnuplot-nox
+  python3-numpy python3-pil   # test/generators/independent_walls.py: recordings made apart from the simulator
   xvfb xauth libgl1-mesa-dri
   clang   # the libFuzzer targets (PCL_TEXLET_FUZZ, docs/fuzzing.md): clang-14 with libclang_rt.fuzzer
 )
