@@ -5,6 +5,7 @@
 #include <pcl/exceptions.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -92,7 +93,8 @@ runGnuplot (const ScratchFolder &scratch, const std::string &script, const std::
     fs::remove (tmp_png, ec);
     throw pcl::IOException ("gnuplot could not draw '" + png + "'" + (last.empty () ? "" : ": " + last));
   }
-  detail::commitTemporary (tmp_png, png);
+  if (std::rename (tmp_png.c_str (), png.c_str ()) != 0)
+    throw pcl::IOException ("cannot rename '" + tmp_png + "' onto '" + png + "'");
 }
 
 } // namespace
@@ -128,7 +130,7 @@ writeRelationHistogramPng (const RelationStatistics &stats, const std::string &p
     if (!out)
       throw pcl::IOException ("cannot write the histogram data to '" + data + "'");
   }
-  const std::string tmp = detail::temporaryPathFor (png);
+  const std::string tmp = temporaryPathFor (png);
   std::ostringstream gp;
   gp << "set terminal pngcairo size 900,660 enhanced font 'Sans,11'\n"
      << "set output " << gpString (tmp) << "\n"
@@ -181,7 +183,7 @@ writeInlierCurvesPng (const std::vector<InlierCurve> &curves, const std::string 
     plot << (c ? ", " : "plot ") << gpString (data) << " using 1:2 with linespoints lw 2 pt 7 title "
          << gpString (curve.label);
   }
-  const std::string tmp = detail::temporaryPathFor (png);
+  const std::string tmp = temporaryPathFor (png);
   std::ostringstream gp;
   gp << "set terminal pngcairo size 800,560 enhanced font 'Sans,11'\n"
      << "set output " << gpString (tmp) << "\n"
