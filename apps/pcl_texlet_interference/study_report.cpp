@@ -1,5 +1,7 @@
 #include "study_report.h"
 
+#include <pcl_texlet/report/base64.h>
+
 #include <pcl/exceptions.h>
 
 #include <cmath>
@@ -34,47 +36,13 @@ round3 (double v)
 }
 
 std::string
-base64 (const std::string &bytes)
-{
-  static const char *table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve ((bytes.size () + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 2 < bytes.size (); i += 3)
-  {
-    const unsigned v = (static_cast<unsigned char> (bytes[i]) << 16) | (static_cast<unsigned char> (bytes[i + 1]) << 8) |
-                       static_cast<unsigned char> (bytes[i + 2]);
-    out += table[(v >> 18) & 63];
-    out += table[(v >> 12) & 63];
-    out += table[(v >> 6) & 63];
-    out += table[v & 63];
-  }
-  if (i + 1 == bytes.size ())
-  {
-    const unsigned v = static_cast<unsigned char> (bytes[i]) << 16;
-    out += table[(v >> 18) & 63];
-    out += table[(v >> 12) & 63];
-    out += "==";
-  }
-  else if (i + 2 == bytes.size ())
-  {
-    const unsigned v = (static_cast<unsigned char> (bytes[i]) << 16) | (static_cast<unsigned char> (bytes[i + 1]) << 8);
-    out += table[(v >> 18) & 63];
-    out += table[(v >> 12) & 63];
-    out += table[(v >> 6) & 63];
-    out += '=';
-  }
-  return out;
-}
-
-std::string
 imageTag (const std::string &folder, const std::string &name, const std::string &alt)
 {
   std::ifstream in (fs::path (folder) / name, std::ios::binary);
   if (!in)
     throw pcl::IOException ("report: cannot read the image '" + name + "' to embed");
   const std::string bytes ((std::istreambuf_iterator<char> (in)), std::istreambuf_iterator<char> ());
-  return "<img alt=\"" + alt + "\" src=\"data:image/png;base64," + base64 (bytes) + "\">";
+  return "<img alt=\"" + alt + "\" src=\"data:image/png;base64," + pcl::texlet::base64 (bytes) + "\">";
 }
 
 std::string
