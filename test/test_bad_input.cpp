@@ -6,8 +6,13 @@
 #include <pcl_texlet/io/frame_skipping_reader.h>
 #include <pcl_texlet/relations/extrinsics.h>
 #include <pcl_texlet/io/noise_model_io.h>
-#include <pcl_texlet/io/recording.h>
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/camera_yaml.h>
+#include <pcl_texlet/io/grabber_intrinsics.h>
+#include <pcl_texlet/io/open_recording.h>
+#include <pcl_texlet/io/pcd_folder_reader.h>
+#include <pcl_texlet/io/png_image.h>
+#include <pcl_texlet/io/recording_folder_reader.h>
+#include <pcl_texlet/io/tiff_image.h>
 #include <pcl_texlet/io/recording_writer.h>
 #include <pcl_texlet/features/texlet_parameters.h>
 

@@ -4,7 +4,8 @@
  */
 #include <pcl_texlet/kernels/hex_grid.h>
 #include <pcl_texlet/features/point_types.h>
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/camera_yaml.h>
+#include <pcl_texlet/io/png_image.h>
 
 #include <pcl/io/pcd_io.h>
 

@@ -4,7 +4,7 @@
  * documented failure, a pcl::PCLException naming the input and the problem, or the right result.
  */
 #include <pcl_texlet/io/noise_model_io.h>
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/png_image.h>
 #include <pcl_texlet/simulation/simulation_config.h>
 
 #include <pcl/exceptions.h>

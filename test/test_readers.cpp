@@ -4,7 +4,13 @@
  * same depth, .oni playback through OpenNI2Grabber, openRecording's choice, and every kind of bad
  * input rejected with a pcl::IOException that names the file.
  */
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/grabber_intrinsics.h>
+#include <pcl_texlet/io/grabber_tiff_reader.h>
+#include <pcl_texlet/io/oni_reader.h>
+#include <pcl_texlet/io/open_recording.h>
+#include <pcl_texlet/io/pcd_folder_reader.h>
+#include <pcl_texlet/io/recording_folder_reader.h>
+#include <pcl_texlet/io/tiff_image.h>
 #include <pcl_texlet/io/recording_writer.h>
 #include <pcl_texlet/simulation/effects.h>
 #include <pcl_texlet/simulation/kinect_simulator.h>

@@ -2,7 +2,9 @@
  * Recording folders (DESIGN.md section 4): exact PNG and camera.yaml round trips, frames streamed
  * in name order, and bad files rejected with a pcl::IOException that names the file.
  */
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/camera_yaml.h>
+#include <pcl_texlet/io/png_image.h>
+#include <pcl_texlet/io/recording_folder_reader.h>
 
 #include <pcl/exceptions.h>
 

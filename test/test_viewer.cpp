@@ -2,7 +2,8 @@
  * pcl_texlet_viewer --screenshot under Xvfb: the image shows the scene and the texlets (their
  * exact mean colours), and bad input exits 2 with one line and no image.
  */
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/camera_yaml.h>
+#include <pcl_texlet/io/png_image.h>
 #include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/io/pcd_io.h>

@@ -12,8 +12,8 @@
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/lab/recording_measurement.h>
 #include <pcl_texlet/camera/pinhole_model.h>
-#include <pcl_texlet/io/recording.h>
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/open_recording.h>
+#include <pcl_texlet/io/pcd_folder_reader.h>
 #include <pcl_texlet/io/openni2_device_reader.h>
 #include <pcl_texlet/io/noise_model_io.h>
 #include <pcl_texlet/features/texlet_estimation.h>
