@@ -36,6 +36,11 @@ CPU=$(sed -n 's/.*"cpu": "\(.*\)",*$/\1/p' docs/benchmarks.json | head -1)
 CORES=$(sed -n 's/.*"hardware_threads": \([0-9]*\).*/\1/p' docs/benchmarks.json | head -1)
 THREADS=$(sed -n 's/.*"threads_used": \([0-9]*\).*/\1/p' docs/benchmarks.json | head -1)
 MACHINE="$CPU, $CORES cores, $THREADS threads"
+# Both scaling plots draw the same columns of their scaling_*.dat (median CPU ms per method).
+SCALING_CURVES='using 2:6 with linespoints lw 2 title "texlets, no uncertainty", \
+     "" using 2:12 with linespoints lw 2 title "texlets, analytic", \
+     "" using 2:24 with linespoints lw 2 title "NormalEstimationOMP, same disc", \
+     "" using 2:18 axes x1y2 with linespoints lw 2 dt 2 title "texlets, Monte Carlo 50 (right axis)"'
 
 gnuplot <<EOF
 set terminal pngcairo size 1100,620 enhanced font "DejaVu Sans,11"
@@ -85,17 +90,11 @@ set y2label "CPU ms per frame, all threads (Monte Carlo, 50 samples)"
 set output "$IMAGES/scaling_texlets.png"
 set title "CPU time against the number of texlets (spacing 2-12 px, radius 6 px; ${MACHINE})"
 set xlabel "texlet centres per 640x480 frame"
-plot "$DATA/scaling_spacing.dat" using 2:6 with linespoints lw 2 title "texlets, no uncertainty", \
-     "" using 2:12 with linespoints lw 2 title "texlets, analytic", \
-     "" using 2:24 with linespoints lw 2 title "NormalEstimationOMP, same disc", \
-     "" using 2:18 axes x1y2 with linespoints lw 2 dt 2 title "texlets, Monte Carlo 50 (right axis)"
+plot "$DATA/scaling_spacing.dat" ${SCALING_CURVES}
 set output "$IMAGES/scaling_radius.png"
 set title "CPU time against the neighbourhood size (radius 2-10 px, spacing 6 px; ${MACHINE})"
 set xlabel "pixels in the neighbourhood disc"
-plot "$DATA/scaling_radius.dat" using 2:6 with linespoints lw 2 title "texlets, no uncertainty", \
-     "" using 2:12 with linespoints lw 2 title "texlets, analytic", \
-     "" using 2:24 with linespoints lw 2 title "NormalEstimationOMP, same disc", \
-     "" using 2:18 axes x1y2 with linespoints lw 2 dt 2 title "texlets, Monte Carlo 50 (right axis)"
+plot "$DATA/scaling_radius.dat" ${SCALING_CURVES}
 EOF
 
 echo "make_benchmark_figures.sh: docs/benchmarks.json, docs/benchmarks.txt, $DATA/*.dat and $IMAGES/*.png written" >&2

@@ -3,11 +3,20 @@
  * other test covers: empty files, NaN and infinite numbers, absurd sizes, and the bad-frame
  * policy (FrameSkippingReader). Each must be an exception naming the input and the problem.
  */
+#include "support/expect_error.h"
+#include "support/recording_folder.h"
+#include "support/temp_dir.h"
+
 #include <pcl_texlet/io/frame_skipping_reader.h>
 #include <pcl_texlet/relations/extrinsics.h>
 #include <pcl_texlet/io/noise_model_io.h>
-#include <pcl_texlet/io/recording.h>
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/camera_yaml.h>
+#include <pcl_texlet/io/grabber_intrinsics.h>
+#include <pcl_texlet/io/open_recording.h>
+#include <pcl_texlet/io/pcd_folder_reader.h>
+#include <pcl_texlet/io/png_image.h>
+#include <pcl_texlet/io/recording_folder_reader.h>
+#include <pcl_texlet/io/tiff_image.h>
 #include <pcl_texlet/io/recording_writer.h>
 #include <pcl_texlet/features/texlet_parameters.h>
 
@@ -16,7 +25,6 @@
 #include <gtest/gtest.h>
 
 #include <png.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -34,67 +42,15 @@ using namespace pcl::texlet;
 namespace
 {
 
-class BadInput : public ::testing::Test
-{
-protected:
-  fs::path dir = fs::temp_directory_path () / ("pcl_texlet_bad_input_" + std::to_string (::getpid ()) + "_" +
-                                               ::testing::UnitTest::GetInstance ()->current_test_info ()->name ());
-  void SetUp () override
-  {
-    fs::remove_all (dir);
-    fs::create_directories (dir);
-  }
-  void TearDown () override { fs::remove_all (dir); }
-
-  fs::path
-  write (const std::string &name, const std::string &text)
-  {
-    const fs::path p = dir / name;
-    std::ofstream (p, std::ios::binary) << text;
-    return p;
-  }
-};
-
-/** Expects \a f to throw an exception of type E whose text names \a a and mentions \a b. */
-template <typename E, typename F> void
-expectError (F &&f, const std::string &a, const std::string &b)
-{
-  try
-  {
-    f ();
-    ADD_FAILURE () << "no exception; expected one naming '" << a << "' and '" << b << "'";
-  }
-  catch (const E &e)
-  {
-    const std::string what = e.what ();
-    EXPECT_NE (what.find (a), std::string::npos) << what;
-    EXPECT_NE (what.find (b), std::string::npos) << what;
-  }
-}
+using BadInput = pcl_texlet_test::TempDirTest;
+using pcl_texlet_test::expectError;
 
 /** A recording folder of \a n 16x12 frames whose depth is 1000 + frame index. */
 fs::path
 makeRecording (const fs::path &folder, int n)
 {
-  CameraInfo info;
-  info.width = 16;
-  info.height = 12;
-  const double K[9] = {20, 0, 7.5, 0, 20, 5.5, 0, 0, 1};
-  std::copy (K, K + 9, info.K);
-  RecordingFolderWriter w (folder.string (), info);
-  for (int f = 0; f < n; ++f)
-  {
-    DepthFrame frame;
-    char name[16];
-    std::snprintf (name, sizeof (name), "%06d", f);
-    frame.name = name;
-    frame.width = 16;
-    frame.height = 12;
-    frame.depth_mm.assign (16 * 12, static_cast<std::uint16_t> (1000 + f));
-    w.writeFrame (frame);
-  }
-  w.commit ();
-  return folder;
+  return pcl_texlet_test::writeRecordingFolder (folder, pcl_texlet_test::centredCamera (16, 12, 20), n,
+                                                [] (int, int, int f) { return 1000 + f; });
 }
 
 const char *const kCameraYaml = "image_width: 16\nimage_height: 12\ncamera_name: depth\n"
@@ -153,7 +109,7 @@ TEST_F (BadInput, AbsurdImageSizesAreRejectedBeforeAllocating)
     expectError<pcl::IOException> ([&] { loadCameraInfoYaml (p.string ()); }, "camera.yaml", "");
   }
   // A PNG whose header claims 100000 x 100000 pixels (20 GB of depth) with no data behind it.
-  const fs::path png = dir / "huge.png";
+  const fs::path png = dir_ / "huge.png";
   {
     FILE *f = std::fopen (png.string ().c_str (), "wb");
     ASSERT_NE (f, nullptr);
@@ -216,7 +172,7 @@ TEST_F (BadInput, NanInNoiseModelAndExtrinsicsIsRejected)
   }
   std::vector<SensorExtrinsics> sensors (1);
   sensors[0].name = "sensor_0";
-  const fs::path good = dir / "extrinsics.yaml";
+  const fs::path good = dir_ / "extrinsics.yaml";
   saveExtrinsicsYaml (good.string (), sensors);
   std::string text;
   {
@@ -234,7 +190,7 @@ TEST_F (BadInput, NanInNoiseModelAndExtrinsicsIsRejected)
 
 TEST_F (BadInput, FrameSkippingReaderPassesOverBadFramesAndCountsThem)
 {
-  const fs::path rec = makeRecording (dir / "rec", 6);
+  const fs::path rec = makeRecording (dir_ / "rec", 6);
   // Frame 2 truncated, frame 4 not a PNG at all.
   std::string bytes;
   {
@@ -305,7 +261,7 @@ TEST_F (BadInput, SxgaRecordingRoundTripsThroughWriterAndReader)
   info.height = 1024;
   const double K[9] = {1160, 0, 639.5, 0, 1160, 511.5, 0, 0, 1};
   std::copy (K, K + 9, info.K);
-  RecordingFolderWriter w ((dir / "sxga").string (), info);
+  RecordingFolderWriter w ((dir_ / "sxga").string (), info);
   DepthFrame frame;
   frame.name = "000000";
   frame.width = 1280;
@@ -316,7 +272,7 @@ TEST_F (BadInput, SxgaRecordingRoundTripsThroughWriterAndReader)
   frame.rgb.assign (3 * frame.depth_mm.size (), 7);
   w.writeFrame (frame);
   w.commit ();
-  const RecordingReader::Ptr r = openRecording ((dir / "sxga").string ());
+  const RecordingReader::Ptr r = openRecording ((dir_ / "sxga").string ());
   EXPECT_EQ (r->cameraInfo ().width, 1280);
   EXPECT_EQ (r->cameraInfo ().height, 1024);
   DepthFrame back;
@@ -328,7 +284,7 @@ TEST_F (BadInput, SxgaRecordingRoundTripsThroughWriterAndReader)
 TEST_F (BadInput, WritersLeaveNoPartialFile)
 {
   // Into a folder that does not exist: an error naming the file, and nothing left anywhere.
-  const fs::path missing = dir / "missing";
+  const fs::path missing = dir_ / "missing";
   CameraInfo info;
   info.width = 4;
   info.height = 3;
@@ -344,22 +300,22 @@ TEST_F (BadInput, WritersLeaveNoPartialFile)
   expectError<pcl::PCLException> ([&] { writeDepthPng ((missing / "d.png").string (), depth.data (), 4, 3); }, "d.png",
                                   "");
   expectError<pcl::PCLException> ([&] { writeRgbPng ((missing / "c.png").string (), rgb.data (), 4, 3); }, "c.png", "");
-  EXPECT_TRUE (fs::is_empty (dir));
+  EXPECT_TRUE (fs::is_empty (dir_));
 
   // Written: the file and nothing beside it (no temporary left over).
-  saveCameraInfoYaml ((dir / "camera.yaml").string (), info);
-  saveNoiseModelYaml ((dir / "model.yaml").string (), NoiseModel::paper ());
-  saveExtrinsicsYaml ((dir / "extrinsics.yaml").string (), std::vector<SensorExtrinsics> (1));
-  writeDepthPng ((dir / "d.png").string (), depth.data (), 4, 3);
+  saveCameraInfoYaml ((dir_ / "camera.yaml").string (), info);
+  saveNoiseModelYaml ((dir_ / "model.yaml").string (), NoiseModel::paper ());
+  saveExtrinsicsYaml ((dir_ / "extrinsics.yaml").string (), std::vector<SensorExtrinsics> (1));
+  writeDepthPng ((dir_ / "d.png").string (), depth.data (), 4, 3);
   std::vector<std::string> names;
-  for (const auto &e : fs::directory_iterator (dir))
+  for (const auto &e : fs::directory_iterator (dir_))
     names.push_back (e.path ().filename ().string ());
   std::sort (names.begin (), names.end ());
   EXPECT_EQ (names, (std::vector<std::string>{"camera.yaml", "d.png", "extrinsics.yaml", "model.yaml"}));
 
   // A recording writer destroyed before commit leaves no folder, not even its hidden temporary.
   {
-    RecordingFolderWriter w ((dir / "rec").string (), info);
+    RecordingFolderWriter w ((dir_ / "rec").string (), info);
     DepthFrame f;
     f.name = "000000";
     f.width = 4;
@@ -368,7 +324,7 @@ TEST_F (BadInput, WritersLeaveNoPartialFile)
     w.writeFrame (f);
   }
   std::size_t entries = 0;
-  for (const auto &e : fs::directory_iterator (dir))
+  for (const auto &e : fs::directory_iterator (dir_))
     entries += e.path ().filename ().string ().find ("rec") != std::string::npos ? 1 : 0;
   EXPECT_EQ (entries, 0u);
 }

@@ -11,19 +11,18 @@
 #include <gtest/gtest.h>
 
 #include "support/app_run.h"
+#include "support/temp_dir.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
-
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -33,13 +32,6 @@ namespace
 
 using Result = pcl_texlet_test::AppResult;
 using pcl_texlet_test::slurp;
-
-
-fs::path
-tempDir (const std::string &name)
-{
-  return fs::temp_directory_path () / ("pcl_texlet_bench_" + std::to_string (::getpid ()) + "_" + name);
-}
 
 Result
 runBench (const fs::path &dir, const std::string &args)
@@ -54,8 +46,8 @@ protected:
   static void
   SetUpTestSuite ()
   {
-    dir_ = tempDir ("scenes");
-    fs::create_directories (dir_);
+    temp_ = std::make_unique<pcl_texlet_test::TempDir> ("bench_scenes");
+    dir_ = temp_->path ();
     const Result r = runBench (dir_, "--scene plane --width 160 --height 120 --repetitions 2 --warmup 1 -n 5 "
                                      "--fig8 --fig8-runs 4 -q --json " + (dir_ / "bench.json").string () +
                                      " --data-dir " + dir_.string ());
@@ -67,7 +59,7 @@ protected:
   }
 
   static void
-  TearDownTestSuite () { fs::remove_all (dir_); }
+  TearDownTestSuite () { temp_.reset (); }
 
   void
   SetUp () override { ASSERT_EQ (code_, 0) << stderr_; }
@@ -83,6 +75,7 @@ protected:
     return none;
   }
 
+  static inline std::unique_ptr<pcl_texlet_test::TempDir> temp_;
   static inline fs::path dir_;
   static inline int code_ = -1;
   static inline std::string stdout_, stderr_;
@@ -192,19 +185,14 @@ TEST_F (BenchOnSimulatedScenes, Fig8PcaMatchesSvdAndAveragingIsWorse)
   EXPECT_TRUE (fs::exists (dir_ / "timing.dat"));
 }
 
-class BenchBadInput : public ::testing::Test
+class BenchBadInput : public pcl_texlet_test::TempDirTest
 {
 protected:
-  fs::path dir = tempDir (::testing::UnitTest::GetInstance ()->current_test_info ()->name ());
-
-  void SetUp () override { fs::create_directories (dir); }
-  void TearDown () override { fs::remove_all (dir); }
-
   void
   expectRejected (const std::string &args, const std::string &needle)
   {
-    const fs::path out = dir / "out.json";
-    const Result r = runBench (dir, args + " -q --no-accuracy --json " + out.string ());
+    const fs::path out = dir_ / "out.json";
+    const Result r = runBench (dir_, args + " -q --no-accuracy --json " + out.string ());
     EXPECT_EQ (r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ (std::count (r.err.begin (), r.err.end (), '\n'), 1) << r.err;
     EXPECT_NE (r.err.find (needle), std::string::npos) << "stderr: " << r.err << " should mention " << needle;
@@ -214,14 +202,14 @@ protected:
 
 TEST_F (BenchBadInput, MissingCorruptOrUnorganisedInput)
 {
-  expectRejected ((dir / "nothing.pcd").string (), "does not exist");
-  std::ofstream (dir / "garbage.pcd") << "this is not a point cloud\n";
-  expectRejected ((dir / "garbage.pcd").string (), "garbage.pcd");
+  expectRejected ((dir_ / "nothing.pcd").string (), "does not exist");
+  std::ofstream (dir_ / "garbage.pcd") << "this is not a point cloud\n";
+  expectRejected ((dir_ / "garbage.pcd").string (), "garbage.pcd");
   pcl::PointCloud<pcl::PointXYZ> flat;
   for (int i = 0; i < 50; ++i)
     flat.push_back (pcl::PointXYZ (0.01f * i, 0.0f, 1.0f));
-  pcl::io::savePCDFileBinary ((dir / "flat.pcd").string (), flat);
-  expectRejected ((dir / "flat.pcd").string (), "not an organised cloud");
+  pcl::io::savePCDFileBinary ((dir_ / "flat.pcd").string (), flat);
+  expectRejected ((dir_ / "flat.pcd").string (), "not an organised cloud");
 }
 
 TEST_F (BenchBadInput, BadOptions)
@@ -233,7 +221,7 @@ TEST_F (BenchBadInput, BadOptions)
   expectRejected ("--scene plane --repetitions 0", "repetitions");
   expectRejected ("--scene plane --fits lsq", "lsq");
   expectRejected ("--scene plane --width 8", "--width");
-  expectRejected ("--scene plane --data-dir " + (dir / "no_such_folder").string (), "no_such_folder");
+  expectRejected ("--scene plane --data-dir " + (dir_ / "no_such_folder").string (), "no_such_folder");
 }
 
 } // namespace

@@ -4,15 +4,17 @@
  */
 #include <pcl_texlet/kernels/hex_grid.h>
 #include <pcl_texlet/features/point_types.h>
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/camera_yaml.h>
+#include <pcl_texlet/io/png_image.h>
 
 #include <pcl/io/pcd_io.h>
 
 #include <gtest/gtest.h>
 
 #include "support/app_run.h"
+#include "support/recording_folder.h"
+#include "support/temp_dir.h"
 
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -28,21 +30,13 @@ namespace
 using Result = pcl_texlet_test::AppResult;
 using pcl_texlet_test::slurp;
 
-
-class ExtractApp : public ::testing::Test
+class ExtractApp : public pcl_texlet_test::TempDirTest
 {
 protected:
-  fs::path dir = fs::temp_directory_path () /
-                 ("pcl_texlet_app_" + std::to_string (::getpid ()) + "_" +
-                  ::testing::UnitTest::GetInstance ()->current_test_info ()->name ());
-
-  void SetUp () override { fs::create_directories (dir); }
-  void TearDown () override { fs::remove_all (dir); }
-
   Result
   run (const std::string &args)
   {
-    return pcl_texlet_test::runApp (EXTRACT_APP, args, dir);
+    return pcl_texlet_test::runApp (EXTRACT_APP, args, dir_);
   }
 
   /** Bad input: exit 2, exactly one line on stderr that mentions `needle`, no output file. */
@@ -54,32 +48,15 @@ protected:
     EXPECT_EQ (std::count (r.err.begin (), r.err.end (), '\n'), 1) << r.err;
     EXPECT_NE (r.err.find (needle), std::string::npos) << "stderr: " << r.err << " should mention " << needle;
     EXPECT_FALSE (fs::exists (output)) << output;
-    EXPECT_FALSE (fs::exists (output.string () + ".tmp"));
+    EXPECT_EQ (pcl_texlet_test::temporariesIn (output.parent_path ()), std::vector<std::string> ());
   }
 
   /** A recording folder of `frames` 64x48 frames of a tilted wall. */
   fs::path
   makeRecording (int frames)
   {
-    const fs::path rec = dir / "rec";
-    fs::create_directories (rec / "depth");
-    pcl::texlet::CameraInfo info;
-    info.width = 64;
-    info.height = 48;
-    const double K[9] = {60, 0, 31.5, 0, 60, 23.5, 0, 0, 1};
-    std::copy (K, K + 9, info.K);
-    pcl::texlet::saveCameraInfoYaml ((rec / "camera.yaml").string (), info);
-    for (int f = 0; f < frames; ++f)
-    {
-      std::vector<std::uint16_t> depth (64 * 48);
-      for (int v = 0; v < 48; ++v)
-        for (int u = 0; u < 64; ++u)
-          depth[v * 64 + u] = static_cast<std::uint16_t> (1000 + 2 * u + f);
-      char name[32];
-      std::snprintf (name, sizeof (name), "%06d.png", f);
-      pcl::texlet::writeDepthPng ((rec / "depth" / name).string (), depth.data (), 64, 48);
-    }
-    return rec;
+    return pcl_texlet_test::writeRecordingFolder (dir_ / "rec", pcl_texlet_test::centredCamera (64, 48, 60), frames,
+                                                  [] (int u, int, int f) { return 1000 + 2 * u + f; });
   }
 };
 
@@ -89,7 +66,7 @@ const std::string kRealFrame = std::string (DATA_DIR) + "/kinect/grabber_sequenc
 
 TEST_F (ExtractApp, RealKinectFrame)
 {
-  const fs::path out = dir / "texlets.pcd";
+  const fs::path out = dir_ / "texlets.pcd";
   const Result r = run (kRealFrame + " " + out.string () + " --uncertainty analytic");
   ASSERT_EQ (r.code, 0) << r.err;
   pcl::PointCloud<pcl::Texlet> texlets;
@@ -106,12 +83,12 @@ TEST_F (ExtractApp, RealKinectFrame)
     }
   EXPECT_GT (valid, texlets.size () / 2);
   EXPECT_NE (r.out.find ("median normal SD"), std::string::npos) << r.out;
-  EXPECT_FALSE (fs::exists (out.string () + ".tmp"));
+  EXPECT_EQ (pcl_texlet_test::temporariesIn (out.parent_path ()), std::vector<std::string> ());
 }
 
 TEST_F (ExtractApp, RecordingFolderWritesOneFilePerFrame)
 {
-  const fs::path rec = makeRecording (3), out = dir / "out";
+  const fs::path rec = makeRecording (3), out = dir_ / "out";
   const Result r = run (rec.string () + " " + out.string () + " --spacing 8 --uncertainty montecarlo --samples 20");
   ASSERT_EQ (r.code, 0) << r.err;
   for (const char *name : {"000000.pcd", "000001.pcd", "000002.pcd"})
@@ -130,7 +107,7 @@ TEST_F (ExtractApp, RecordingFolderWritesOneFilePerFrame)
 
 TEST_F (ExtractApp, GrabberTiffFolderWritesOneFilePerFrame)
 {
-  const fs::path out = dir / "out";
+  const fs::path out = dir_ / "out";
   const std::string sequence = std::string (DATA_DIR) + "/kinect/grabber_sequence";
   const Result r = run (sequence + " " + out.string () + " --uncertainty analytic");
   ASSERT_EQ (r.code, 0) << r.err;
@@ -153,7 +130,7 @@ TEST_F (ExtractApp, GrabberTiffFolderWritesOneFilePerFrame)
 
   // The first frame's PCD was made by PCL's grabber from the same depth with the same intrinsics
   // (fx = fy = 525, centre (320, 240), recovered from the cloud): its texlets are the TIFF frame's.
-  const fs::path from_pcd = dir / "from_pcd.pcd";
+  const fs::path from_pcd = dir_ / "from_pcd.pcd";
   ASSERT_EQ (run (kRealFrame + " " + from_pcd.string () + " --uncertainty analytic").code, 0);
   pcl::PointCloud<pcl::Texlet> a, b;
   ASSERT_EQ (pcl::io::loadPCDFile ((out / (std::string (frames[0]) + ".pcd")).string (), a), 0);
@@ -190,7 +167,7 @@ TEST_F (ExtractApp, GrabberTiffFolderWritesOneFilePerFrame)
 
 TEST_F (ExtractApp, OniFileWritesOneFilePerFrame)
 {
-  const fs::path out = dir / "out";
+  const fs::path out = dir_ / "out";
   const Result r = run (std::string (DATA_DIR) + "/kinect/grabber_sequence.oni " + out.string () +
                         " --uncertainty none --spacing 12");
   ASSERT_EQ (r.code, 0) << r.err;
@@ -205,32 +182,32 @@ TEST_F (ExtractApp, OniFileWritesOneFilePerFrame)
 
 TEST_F (ExtractApp, BadInputExitsTwoWithOneLine)
 {
-  const fs::path out = dir / "out.pcd";
-  expectRejected ((dir / "missing.pcd").string () + " " + out.string (), "missing.pcd", out);
+  const fs::path out = dir_ / "out.pcd";
+  expectRejected ((dir_ / "missing.pcd").string () + " " + out.string (), "missing.pcd", out);
 
-  std::ofstream (dir / "garbage.pcd") << "this is not a point cloud\n";
-  expectRejected ((dir / "garbage.pcd").string () + " " + out.string (), "garbage.pcd", out);
+  std::ofstream (dir_ / "garbage.pcd") << "this is not a point cloud\n";
+  expectRejected ((dir_ / "garbage.pcd").string () + " " + out.string (), "garbage.pcd", out);
 
   // Truncated: the real frame cut in half.
   {
     const std::string data = slurp (kRealFrame);
-    std::ofstream (dir / "truncated.pcd", std::ios::binary).write (data.data (), data.size () / 2);
+    std::ofstream (dir_ / "truncated.pcd", std::ios::binary).write (data.data (), data.size () / 2);
   }
-  expectRejected ((dir / "truncated.pcd").string () + " " + out.string (), "truncated.pcd", out);
+  expectRejected ((dir_ / "truncated.pcd").string () + " " + out.string (), "truncated.pcd", out);
 
   // .oni input: missing, and not a recording (OpenNI2's multi-line message comes out on one line).
-  expectRejected ((dir / "missing.oni").string () + " " + out.string (), "missing.oni", out);
-  std::ofstream (dir / "garbage.oni") << "this is not a recording\n";
-  expectRejected ((dir / "garbage.oni").string () + " " + out.string (), "garbage.oni", out);
+  expectRejected ((dir_ / "missing.oni").string () + " " + out.string (), "missing.oni", out);
+  std::ofstream (dir_ / "garbage.oni") << "this is not a recording\n";
+  expectRejected ((dir_ / "garbage.oni").string () + " " + out.string (), "garbage.oni", out);
 
   pcl::PointCloud<pcl::PointXYZ> flat;
   flat.resize (500, pcl::PointXYZ (0, 0, 1));
-  pcl::io::savePCDFileBinary ((dir / "flat.pcd").string (), flat);
-  expectRejected ((dir / "flat.pcd").string () + " " + out.string (), "not an organised", out);
+  pcl::io::savePCDFileBinary ((dir_ / "flat.pcd").string (), flat);
+  expectRejected ((dir_ / "flat.pcd").string () + " " + out.string (), "not an organised", out);
 
   pcl::PointCloud<pcl::PointXYZ> invalid (64, 48, pcl::PointXYZ (NAN, NAN, NAN));
-  pcl::io::savePCDFileBinary ((dir / "invalid.pcd").string (), invalid);
-  expectRejected ((dir / "invalid.pcd").string () + " " + out.string (), "no valid point", out);
+  pcl::io::savePCDFileBinary ((dir_ / "invalid.pcd").string (), invalid);
+  expectRejected ((dir_ / "invalid.pcd").string () + " " + out.string (), "no valid point", out);
 
   expectRejected (kRealFrame + " " + out.string () + " --spacing 0", "spacing", out);
   expectRejected (kRealFrame + " " + out.string () + " --radius -3", "radius", out);
@@ -248,14 +225,14 @@ TEST_F (ExtractApp, BadInputExitsTwoWithOneLine)
   expectRejected (kRealFrame + " " + out.string () + " --samples 2000000000", "samples", out);
   expectRejected (kRealFrame + " " + out.string () + " --iterations 99999999", "ransac_iterations", out);
   expectRejected (kRealFrame + " " + out.string () + " --threads 100000", "threads", out);
-  expectRejected (kRealFrame + " " + (dir / "no" / "such" / "dir" / "out.pcd").string (), "does not exist",
-                  dir / "no");
+  expectRejected (kRealFrame + " " + (dir_ / "no" / "such" / "dir" / "out.pcd").string (), "does not exist",
+                  dir_ / "no");
   expectRejected (kRealFrame, "OUTPUT", out); // missing argument
 }
 
 TEST_F (ExtractApp, BadRecordingsExitTwo)
 {
-  const fs::path rec = makeRecording (3), out = dir / "out";
+  const fs::path rec = makeRecording (3), out = dir_ / "out";
   // A frame whose size differs from camera.yaml, with --bad-frames fail: the bad frame is named
   // and the output folder this run made is gone (no half-written output).
   {
@@ -268,14 +245,14 @@ TEST_F (ExtractApp, BadRecordingsExitTwo)
   std::ofstream (rec / "camera.yaml") << "image_width: [unbalanced\n";
   expectRejected (rec.string () + " " + out.string (), "camera.yaml", out);
 
-  const fs::path empty = dir / "empty";
+  const fs::path empty = dir_ / "empty";
   fs::create_directories (empty);
   expectRejected (empty.string () + " " + out.string (), "empty", out);
 }
 
 TEST_F (ExtractApp, CorruptFrameInTheMiddleIsSkippedAndCounted)
 {
-  const fs::path rec = makeRecording (5), out = dir / "out";
+  const fs::path rec = makeRecording (5), out = dir_ / "out";
   // 000002.png cut short (a truncated write), 000003.png the wrong size.
   const std::string bytes = slurp (rec / "depth" / "000002.png");
   std::ofstream (rec / "depth" / "000002.png", std::ios::binary) << bytes.substr (0, bytes.size () / 2);
@@ -298,7 +275,7 @@ TEST_F (ExtractApp, CorruptFrameInTheMiddleIsSkippedAndCounted)
   EXPECT_FALSE (fs::exists (out / "000003.pcd"));
 
   // A folder of PCD files follows the same policy.
-  const fs::path pcds = dir / "pcds", out2 = dir / "out2";
+  const fs::path pcds = dir_ / "pcds", out2 = dir_ / "out2";
   fs::create_directories (pcds);
   fs::copy_file (kRealFrame, pcds / "a.pcd");
   std::ofstream (pcds / "b.pcd") << "# .PCD v0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 640\n"
@@ -313,20 +290,20 @@ TEST_F (ExtractApp, CorruptFrameInTheMiddleIsSkippedAndCounted)
   // Every frame bad: nothing to show for it is an error, and no output folder is left.
   for (const char *name : {"000000", "000001", "000004"})
     std::ofstream (rec / "depth" / (std::string (name) + ".png")) << "not a PNG";
-  const Result all = run (rec.string () + " " + (dir / "out3").string () + " --quiet");
+  const Result all = run (rec.string () + " " + (dir_ / "out3").string () + " --quiet");
   EXPECT_EQ (all.code, 2) << all.err;
   EXPECT_EQ (pcl_texlet_test::lineCount (all.err), 6u) << all.err; // 5 warnings, 1 error
   EXPECT_NE (all.err.find ("error: no frame of"), std::string::npos) << all.err;
-  EXPECT_FALSE (fs::exists (dir / "out3"));
+  EXPECT_FALSE (fs::exists (dir_ / "out3"));
 }
 
 TEST_F (ExtractApp, XtionSxgaFramesEndToEnd)
 {
   // 1280x1024 (the Xtion's SXGA mode) from the simulator, read back and extracted: a fronto-
   // parallel wall at 1.5 m, so every texlet faces the camera at that depth.
-  const fs::path rec = dir / "sxga", out = dir / "out";
+  const fs::path rec = dir_ / "sxga", out = dir_ / "out";
   const Result sim = pcl_texlet_test::runApp (SIM_APP, "--width 1280 --height 1024 --frames 2 --distance 1.5 -q " +
-                                                           rec.string (), dir);
+                                                           rec.string (), dir_);
   ASSERT_EQ (sim.code, 0) << sim.err;
   const Result r = run (rec.string () + " " + out.string () + " --quiet --uncertainty analytic --spacing 12");
   ASSERT_EQ (r.code, 0) << r.err;
@@ -371,14 +348,14 @@ TEST_F (ExtractApp, LongRecordingsStreamInBoundedMemory)
   int k = 0;
   for (const int frames : {30, 300})
   {
-    const fs::path rec = dir / ("rec" + std::to_string (frames)), out = dir / ("out" + std::to_string (frames));
+    const fs::path rec = dir_ / ("rec" + std::to_string (frames)), out = dir_ / ("out" + std::to_string (frames));
     const Result sim = pcl_texlet_test::runApp (SIM_APP, "--width 160 --height 120 --frames " + std::to_string (frames) +
-                                                             " --seed 5 -q " + rec.string (), dir);
+                                                             " --seed 5 -q " + rec.string (), dir_);
     ASSERT_EQ (sim.code, 0) << sim.err;
     const Result r = pcl_texlet_test::runCommand (pcl_texlet_test::kPeakMemoryEnvironment + std::string (EXTRACT_APP) + " " +
                                                       rec.string () + " " + out.string () +
                                                       " -q -j 1 --spacing 2 --uncertainty none",
-                                                  dir);
+                                                  dir_);
     ASSERT_EQ (r.code, 0) << r.err;
     EXPECT_NE (r.out.find ("frames:                " + std::to_string (frames) + "\n"), std::string::npos) << r.out;
     peak[k++] = r.peak_rss_kb;

@@ -3,8 +3,11 @@
  * the minimised crashing input (also kept in the target's corpus), and each test checks the
  * documented failure, a pcl::PCLException naming the input and the problem, or the right result.
  */
+#include "support/expect_error.h"
+#include "support/temp_dir.h"
+
 #include <pcl_texlet/io/noise_model_io.h>
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/png_image.h>
 #include <pcl_texlet/simulation/simulation_config.h>
 
 #include <pcl/exceptions.h>
@@ -17,34 +20,13 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
 #include <zlib.h>
 
 using namespace pcl::texlet;
+using pcl_texlet_test::expectError;
 
 namespace
 {
-
-/** Runs \a f, which must throw a pcl::PCLException whose message contains every one of \a parts. */
-template <typename F> void
-expectClearError (F f, std::initializer_list<std::string> parts)
-{
-  try
-  {
-    f ();
-    ADD_FAILURE () << "no exception";
-  }
-  catch (const pcl::PCLException &e)
-  {
-    const std::string msg = e.what ();
-    for (const auto &p : parts)
-      EXPECT_NE (msg.find (p), std::string::npos) << "'" << msg << "' lacks '" << p << "'";
-  }
-  catch (const std::exception &e)
-  {
-    ADD_FAILURE () << "not a pcl::PCLException: " << e.what ();
-  }
-}
 
 /** A PNG of \a width x \a height pixels in its header whose only image data is a few zero bytes. */
 std::string
@@ -74,16 +56,15 @@ pngClaiming (std::uint32_t width, std::uint32_t height, int bit_depth, int colou
   return png;
 }
 
-/** A file of this test's own in the temporary folder, removed at the end of the scope. */
+/** A file of this test's own, in a folder removed at the end of the scope. */
 struct ScratchFile
 {
+  pcl_texlet_test::TempDir dir;
   std::string path;
   explicit ScratchFile (const std::string &name, const std::string &bytes = "")
-    : path ((std::filesystem::temp_directory_path () / ("pcl_texlet_fuzz_findings_" + std::to_string (::getpid ()) + "_" + name)).string ())
-  {
-    std::ofstream (path, std::ios::binary) << bytes;
-  }
-  ~ScratchFile () { std::remove (path.c_str ()); }
+    : dir ("fuzz_findings_" + pcl_texlet_test::TempDir::currentTestName () + "_" + name),
+      path (dir.write (name, bytes).string ())
+  {}
 };
 
 } // namespace
@@ -92,14 +73,14 @@ struct ScratchFile
 // YAML::TypedBadConversion escape the loader instead of pcl::IOException.
 TEST (FuzzFindings, NoiseModelYamlComplexKeyIsAClearError)
 {
-  expectClearError ([] { parseNoiseModelYaml ("min_sigma_mm: 0.1\nterms:\n? - name: polynomial\n", "model.yaml"); },
+  expectError<pcl::PCLException> ([] { parseNoiseModelYaml ("min_sigma_mm: 0.1\nterms:\n? - name: polynomial\n", "model.yaml"); },
                     {"model.yaml", "key", "list or map"});
   // The same inside a term: as its name, as one of its keys, as a parameter's name.
-  expectClearError ([] { parseNoiseModelYaml ("terms:\n  - name: [polynomial]\n", "model.yaml"); },
+  expectError<pcl::PCLException> ([] { parseNoiseModelYaml ("terms:\n  - name: [polynomial]\n", "model.yaml"); },
                     {"model.yaml", "term 1's name"});
-  expectClearError ([] { parseNoiseModelYaml ("terms:\n  - name: polynomial\n    ? [a]\n    : 1\n", "model.yaml"); },
+  expectError<pcl::PCLException> ([] { parseNoiseModelYaml ("terms:\n  - name: polynomial\n    ? [a]\n    : 1\n", "model.yaml"); },
                     {"model.yaml", "term 'polynomial'"});
-  expectClearError ([] { parseNoiseModelYaml ("terms:\n  - name: polynomial\n    parameters: {[p00]: 1}\n", "m.yaml"); },
+  expectError<pcl::PCLException> ([] { parseNoiseModelYaml ("terms:\n  - name: polynomial\n    parameters: {[p00]: 1}\n", "m.yaml"); },
                     {"m.yaml", "term 'polynomial'", "list or map"});
 }
 
@@ -112,7 +93,7 @@ TEST (FuzzFindings, SimulationConfigComplexKeyIsAClearError)
   {
     sim::SimulationSettings settings;
     settings.seed = 7;
-    expectClearError ([&] { sim::parseSimulationConfig (yaml, settings, "config.yaml"); },
+    expectError<pcl::PCLException> ([&] { sim::parseSimulationConfig (yaml, settings, "config.yaml"); },
                       {"config.yaml", "must be a plain name, not a list or map"});
     EXPECT_EQ (settings.seed, 7u) << "a bad file leaves the settings as they were";
   }
@@ -127,17 +108,17 @@ TEST (FuzzFindings, PngHeaderClaimingMoreThanTheFileHoldsIsAClearError)
   int w = -1, h = -1;
   // Claims beyond any sensor's size are refused by the side limit (docs/inputs.md) ...
   const ScratchFile depth ("huge_depth.png", pngClaiming (1000000, 1000000, 16, 0));
-  expectClearError ([&] { readDepthPng (depth.path, w, h); }, {depth.path, "1000000x1000000", "corrupt header"});
+  expectError<pcl::PCLException> ([&] { readDepthPng (depth.path, w, h); }, {depth.path, "1000000x1000000", "corrupt header"});
   const ScratchFile rgb ("huge_rgb.png", pngClaiming (200000, 3000, 8, 2));
-  expectClearError ([&] { readRgbPng (rgb.path, w, h); }, {rgb.path, "200000x3000", "corrupt header"});
+  expectError<pcl::PCLException> ([&] { readRgbPng (rgb.path, w, h); }, {rgb.path, "200000x3000", "corrupt header"});
   // ... and claims within it (here 512 MB and 144 MB of pixels) by what the small file can hold.
   const ScratchFile big_depth ("big_depth.png", pngClaiming (16000, 16000, 16, 0));
-  expectClearError ([&] { readDepthPng (big_depth.path, w, h); }, {big_depth.path, "16000 x 16000", "corrupt header"});
+  expectError<pcl::PCLException> ([&] { readDepthPng (big_depth.path, w, h); }, {big_depth.path, "16000 x 16000", "corrupt header"});
   const ScratchFile big_rgb ("big_rgb.png", pngClaiming (16000, 3000, 8, 2));
-  expectClearError ([&] { readRgbPng (big_rgb.path, w, h); }, {big_rgb.path, "16000 x 3000", "corrupt header"});
+  expectError<pcl::PCLException> ([&] { readRgbPng (big_rgb.path, w, h); }, {big_rgb.path, "16000 x 3000", "corrupt header"});
   // Small claims with too little data stay libpng's own error (truncated or corrupt data).
   const ScratchFile small ("small_depth.png", pngClaiming (64, 48, 16, 0));
-  expectClearError ([&] { readDepthPng (small.path, w, h); }, {small.path});
+  expectError<pcl::PCLException> ([&] { readDepthPng (small.path, w, h); }, {small.path});
 }
 
 // The bound must not refuse real frames, however well they compress: an all-zero SXGA depth frame

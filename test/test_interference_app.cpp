@@ -10,9 +10,9 @@
 #include <gtest/gtest.h>
 
 #include "support/app_run.h"
+#include "support/temp_dir.h"
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -27,7 +27,6 @@ namespace
 
 using Result = pcl_texlet_test::AppResult;
 using pcl_texlet_test::slurp;
-
 
 bool
 isPng (const fs::path &p)
@@ -45,38 +44,17 @@ occurrences (const std::string &text, const std::string &needle)
   return n;
 }
 
-class InterferenceApp : public ::testing::Test
+class InterferenceApp : public pcl_texlet_test::TempDirTest
 {
 protected:
-  fs::path dir = fs::temp_directory_path () / ("pcl_texlet_interference_app_" + std::to_string (::getpid ()) + "_" +
-                                               ::testing::UnitTest::GetInstance ()->current_test_info ()->name ());
-
-  void SetUp () override
-  {
-    fs::remove_all (dir);
-    fs::create_directories (dir);
-  }
-  void TearDown () override { fs::remove_all (dir); }
-
   Result
   run (const std::string &app, const std::string &args)
   {
-    return pcl_texlet_test::runApp (app, args, dir);
+    return pcl_texlet_test::runApp (app, args, dir_);
   }
 
   Result
   study (const std::string &args) { return run (INTERFERENCE_APP, args); }
-
-  std::vector<std::string>
-  leftovers () const
-  {
-    std::vector<std::string> names;
-    for (const auto &e : fs::directory_iterator (dir))
-      if (e.path ().filename () != "stdout" && e.path ().filename () != "stderr")
-        names.push_back (e.path ().filename ().string ());
-    std::sort (names.begin (), names.end ());
-    return names;
-  }
 
   void
   expectRejected (const std::string &args, const std::string &needle)
@@ -93,7 +71,7 @@ protected:
   fs::path
   recordBox (const std::string &name)
   {
-    const fs::path out = dir / name;
+    const fs::path out = dir_ / name;
     const Result r = run (SIM_APP, "--scene box --distance 1.0 --elevation 45 --projectors 3 --record all --frames 1 "
                                    "--effect interference --width 320 --height 240 --seed 3 -q " +
                                        out.string ());
@@ -115,7 +93,7 @@ TEST_F (InterferenceApp, HelpListsTheOptions)
 
 TEST_F (InterferenceApp, SimulatedStudyWritesHistogramsTableAndReport)
 {
-  const fs::path out = dir / "study";
+  const fs::path out = dir_ / "study";
   const Result r = study ("--simulate --width 320 --height 240 --radii 3,8 --projectors 1,3 --histogram-radii 8 -j 2 " +
                           out.string ());
   ASSERT_EQ (r.code, 0) << r.err;
@@ -160,12 +138,12 @@ TEST_F (InterferenceApp, RecordingsFromTheSimulatorWithMetaPosesOrExtrinsics)
   const fs::path rec = recordBox ("rec");
   const std::string folders = (rec / "sensor_0").string () + "," + (rec / "sensor_1").string () + "," +
                               (rec / "sensor_2").string ();
-  Result r = study ("--recordings " + folders + " --radii 6 --no-plots -q " + (dir / "meta").string ());
+  Result r = study ("--recordings " + folders + " --radii 6 --no-plots -q " + (dir_ / "meta").string ());
   ASSERT_EQ (r.code, 0) << r.err;
-  const json a = json::parse (slurp (dir / "meta" / "inliers.json"));
+  const json a = json::parse (slurp (dir_ / "meta" / "inliers.json"));
   ASSERT_EQ (a["cells"].size (), 1u);
   EXPECT_EQ (a["cells"][0]["projectors"], 3); // from meta.yaml
-  EXPECT_FALSE (fs::exists (dir / "meta" / "inliers_vs_radius.png"));
+  EXPECT_FALSE (fs::exists (dir_ / "meta" / "inliers_vs_radius.png"));
   // The box's point relations are where Table 2 puts them (the big table adds outliers, not peaks).
   for (const auto &peak : a["cells"][0]["peaks"])
   {
@@ -181,32 +159,32 @@ TEST_F (InterferenceApp, RecordingsFromTheSimulatorWithMetaPosesOrExtrinsics)
     ASSERT_TRUE (pcl::texlet::poseFromMetaYaml ((rec / ext[s].name / "meta.yaml").string (), ext[s].pose));
     fs::remove (rec / ext[s].name / "meta.yaml");
   }
-  pcl::texlet::saveExtrinsicsYaml ((dir / "extrinsics.yaml").string (), ext);
-  r = study ("--recordings " + folders + " --extrinsics " + (dir / "extrinsics.yaml").string () +
-             " --projectors 3 --radii 6 --no-plots -q " + (dir / "ext").string ());
+  pcl::texlet::saveExtrinsicsYaml ((dir_ / "extrinsics.yaml").string (), ext);
+  r = study ("--recordings " + folders + " --extrinsics " + (dir_ / "extrinsics.yaml").string () +
+             " --projectors 3 --radii 6 --no-plots -q " + (dir_ / "ext").string ());
   ASSERT_EQ (r.code, 0) << r.err;
-  const json b = json::parse (slurp (dir / "ext" / "inliers.json"));
+  const json b = json::parse (slurp (dir_ / "ext" / "inliers.json"));
   EXPECT_EQ (b["cells"][0]["inliers"], a["cells"][0]["inliers"]);
   EXPECT_EQ (b["cells"][0]["relations"], a["cells"][0]["relations"]);
 
   // Without meta.yaml and without extrinsics there is no pose: named in the error.
-  expectRejected ("--recordings " + folders + " --radii 6 --no-plots " + (dir / "none").string (), "no pose");
+  expectRejected ("--recordings " + folders + " --radii 6 --no-plots " + (dir_ / "none").string (), "no pose");
   // Extrinsics without one of the sensors.
   ext.pop_back ();
-  pcl::texlet::saveExtrinsicsYaml ((dir / "two.yaml").string (), ext);
-  expectRejected ("--recordings " + folders + " --extrinsics " + (dir / "two.yaml").string () + " --no-plots " +
-                      (dir / "none").string (),
+  pcl::texlet::saveExtrinsicsYaml ((dir_ / "two.yaml").string (), ext);
+  expectRejected ("--recordings " + folders + " --extrinsics " + (dir_ / "two.yaml").string () + " --no-plots " +
+                      (dir_ / "none").string (),
                   "sensor_2");
 }
 
 TEST_F (InterferenceApp, BadInputExitsTwoWithOneLine)
 {
-  const std::string out = (dir / "out").string ();
+  const std::string out = (dir_ / "out").string ();
   expectRejected ("", "OUTPUT is required");
   expectRejected ("--simulate --recordings a,b " + out, "either --simulate or --recordings");
   expectRejected (out, "either --simulate or --recordings");
-  fs::create_directories (dir / "exists");
-  expectRejected ("--simulate " + (dir / "exists").string (), "already exists");
+  fs::create_directories (dir_ / "exists");
+  expectRejected ("--simulate " + (dir_ / "exists").string (), "already exists");
   expectRejected ("--simulate --radii 0 " + out, "radius 0");
   expectRejected ("--simulate --radii 6 --histogram-radii 5 " + out, "--histogram-radii");
   expectRejected ("--simulate --projectors 4 " + out, "4 active projectors");
@@ -214,20 +192,20 @@ TEST_F (InterferenceApp, BadInputExitsTwoWithOneLine)
   expectRejected ("--simulate --angle-tol 0 " + out, "--angle-tol");
   expectRejected ("--simulate --frames 0 " + out, "--frames");
   expectRejected ("--simulate --no-such-option " + out, "no-such-option");
-  expectRejected ("--simulate " + (dir / "missing" / "out").string (), "does not exist");
-  expectRejected ("--recordings " + (dir / "nowhere").string () + " --extrinsics " + (dir / "e.yaml").string () + " " +
+  expectRejected ("--simulate " + (dir_ / "missing" / "out").string (), "does not exist");
+  expectRejected ("--recordings " + (dir_ / "nowhere").string () + " --extrinsics " + (dir_ / "e.yaml").string () + " " +
                       out,
                   "e.yaml");
-  std::ofstream (dir / "broken.yaml") << "sensors: [a: {";
-  expectRejected ("--recordings " + (dir / "nowhere").string () + " --extrinsics " + (dir / "broken.yaml").string () +
+  std::ofstream (dir_ / "broken.yaml") << "sensors: [a: {";
+  expectRejected ("--recordings " + (dir_ / "nowhere").string () + " --extrinsics " + (dir_ / "broken.yaml").string () +
                       " " + out,
                   "not valid YAML");
-  std::ofstream (dir / "ok.yaml") << "sensors:\n  - {name: nowhere, pose: [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}\n";
-  expectRejected ("--recordings " + (dir / "nowhere").string () + " --extrinsics " + (dir / "ok.yaml").string () + " " +
+  std::ofstream (dir_ / "ok.yaml") << "sensors:\n  - {name: nowhere, pose: [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}\n";
+  expectRejected ("--recordings " + (dir_ / "nowhere").string () + " --extrinsics " + (dir_ / "ok.yaml").string () + " " +
                       out,
                   "nowhere");
-  expectRejected ("--simulate --object " + (dir / "object.yaml").string () + " " + out, "object.yaml");
-  expectRejected ("--simulate --extrinsics " + (dir / "ok.yaml").string () + " " + out, "--extrinsics");
+  expectRejected ("--simulate --object " + (dir_ / "object.yaml").string () + " " + out, "object.yaml");
+  expectRejected ("--simulate --extrinsics " + (dir_ / "ok.yaml").string () + " " + out, "--extrinsics");
   expectRejected ("--recordings a --recordings b --projectors 1 " + out, "one count per set");
   expectRejected ("--recordings , " + out, "at least one folder");
 }
@@ -237,7 +215,7 @@ TEST_F (InterferenceApp, GpuBackendRunsOrSaysWhyNot)
   // --backend gpu: the relations on the CUDA backend, the same study as on the CPU; without a
   // device (or a build without CUDA) one line naming the reason, exit 2, no output.
   const std::string args = "--simulate --width 160 --height 120 --radii 4 --projectors 1,2 --no-plots -q ";
-  const fs::path cpu_out = dir / "cpu", gpu_out = dir / "gpu";
+  const fs::path cpu_out = dir_ / "cpu", gpu_out = dir_ / "gpu";
   const Result gpu = study ("--backend gpu " + args + gpu_out.string ());
   if (gpu.code == 2)
   {
@@ -263,5 +241,5 @@ TEST_F (InterferenceApp, GpuBackendRunsOrSaysWhyNot)
       EXPECT_NEAR (g["cells"][k]["inlier_percent"].get<double> (), c["cells"][k]["inlier_percent"].get<double> (), 0.01);
     }
   }
-  expectRejected ("--simulate --backend tpu " + (dir / "out").string (), "--backend");
+  expectRejected ("--simulate --backend tpu " + (dir_ / "out").string (), "--backend");
 }

@@ -16,8 +16,10 @@
 #include <pcl_texlet/io/openni2_device_reader.h>
 #include <pcl_texlet/camera/pinhole_model.h>
 #include <pcl_texlet/features/point_types.h>
-#include <pcl_texlet/io/recording.h>
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/camera_yaml.h>
+#include <pcl_texlet/io/oni_reader.h>
+#include <pcl_texlet/io/open_recording.h>
+#include <pcl_texlet/io/png_image.h>
 #include <pcl_texlet/simulation/effects.h>
 #include <pcl_texlet/simulation/kinect_simulator.h>
 #include <pcl_texlet/simulation/scene_setup.h>

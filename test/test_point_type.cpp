@@ -1,6 +1,8 @@
 /*
  * pcl::Texlet in PCD files: exact round trips, NaN texlets, and PCL's own tools.
  */
+#include "support/temp_dir.h"
+
 #include <pcl_texlet/features/point_types.h>
 
 #include <pcl/io/pcd_io.h>
@@ -72,12 +74,7 @@ expectEqual (const pcl::PointCloud<pcl::Texlet> &a, const pcl::PointCloud<pcl::T
   }
 }
 
-struct TempDir
-{
-  fs::path path = fs::temp_directory_path () / ("pcl_texlet_pt_" + std::to_string (::getpid ()));
-  TempDir () { fs::create_directories (path); }
-  ~TempDir () { fs::remove_all (path); }
-};
+using pcl_texlet_test::TempDir;
 
 } // namespace
 
@@ -103,7 +100,7 @@ TEST (TexletPointType, BinaryPcdRoundTripIsExact)
   const auto cloud = randomTexlets (500, 1);
   for (const bool compressed : {false, true})
   {
-    const std::string file = (dir.path / (compressed ? "c.pcd" : "b.pcd")).string ();
+    const std::string file = (dir.path () / (compressed ? "c.pcd" : "b.pcd")).string ();
     if (compressed)
       ASSERT_EQ (pcl::io::savePCDFileBinaryCompressed (file, cloud), 0);
     else
@@ -119,14 +116,14 @@ TEST (TexletPointType, AsciiPcdRoundTripIsExactWithNineDigits)
   TempDir dir;
   const auto cloud = randomTexlets (500, 2);
   // 9 significant digits identify every float; PCDWriter's default of 8 does not.
-  const std::string file = (dir.path / "a.pcd").string ();
+  const std::string file = (dir.path () / "a.pcd").string ();
   ASSERT_EQ (pcl::PCDWriter ().writeASCII (file, cloud, 9), 0);
   pcl::PointCloud<pcl::Texlet> back;
   ASSERT_EQ (pcl::io::loadPCDFile (file, back), 0);
   expectEqual (cloud, back);
 
   // savePCDFile's ASCII default keeps 8 digits: within 1e-7 relative, integers exact.
-  const std::string file8 = (dir.path / "a8.pcd").string ();
+  const std::string file8 = (dir.path () / "a8.pcd").string ();
   ASSERT_EQ (pcl::io::savePCDFileASCII (file8, cloud), 0);
   ASSERT_EQ (pcl::io::loadPCDFile (file8, back), 0);
   ASSERT_EQ (back.size (), cloud.size ());
@@ -145,10 +142,10 @@ TEST (TexletPointType, PclToolsOpenTheFile)
   // PCL's pcl_convert_pcd_ascii_binary reads a texlet PCD and writes it back in binary.
   TempDir dir;
   const auto cloud = randomTexlets (50, 3);
-  const fs::path in = dir.path / "in.pcd", out = dir.path / "out.pcd";
+  const fs::path in = dir.path () / "in.pcd", out = dir.path () / "out.pcd";
   ASSERT_EQ (pcl::PCDWriter ().writeASCII (in.string (), cloud, 9), 0);
   const std::string cmd = std::string (PCL_CONVERT_TOOL) + " " + in.string () + " " + out.string () + " 1 > " +
-                          (dir.path / "log.txt").string () + " 2>&1";
+                          (dir.path () / "log.txt").string () + " 2>&1";
   ASSERT_EQ (std::system (cmd.c_str ()), 0);
   pcl::PointCloud<pcl::Texlet> back;
   ASSERT_EQ (pcl::io::loadPCDFile (out.string (), back), 0);

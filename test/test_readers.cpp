@@ -1,10 +1,20 @@
 /*
- * The recording readers of recording_readers.h on real and written data: the writer read back by
+ * The recording readers (include/pcl_texlet/io) on real and written data: the writer read back by
  * RecordingFolderReader, PCD folders, PCL's grabber TIFF frames against the PCD made from the
  * same depth, .oni playback through OpenNI2Grabber, openRecording's choice, and every kind of bad
  * input rejected with a pcl::IOException that names the file.
  */
-#include <pcl_texlet/io/recording_readers.h>
+#include "support/expect_error.h"
+#include "support/image_patterns.h"
+#include "support/temp_dir.h"
+
+#include <pcl_texlet/io/grabber_intrinsics.h>
+#include <pcl_texlet/io/grabber_tiff_reader.h>
+#include <pcl_texlet/io/oni_reader.h>
+#include <pcl_texlet/io/open_recording.h>
+#include <pcl_texlet/io/pcd_folder_reader.h>
+#include <pcl_texlet/io/recording_folder_reader.h>
+#include <pcl_texlet/io/tiff_image.h>
 #include <pcl_texlet/io/recording_writer.h>
 #include <pcl_texlet/simulation/effects.h>
 #include <pcl_texlet/simulation/kinect_simulator.h>
@@ -49,76 +59,11 @@ const char *const kFrame1 = "frame_20121214T142255.814212";
 const char *const kFrame2 = "frame_20121214T142256.068683";
 const char *const kFrame3 = "frame_20121214T142256.332395";
 
-/** \brief A fresh folder per test, unique across processes (ctest runs tests in parallel). */
-class ReadersTest : public ::testing::Test
-{
-protected:
-  void
-  SetUp () override
-  {
-    const ::testing::TestInfo *test = ::testing::UnitTest::GetInstance ()->current_test_info ();
-    dir_ = fs::temp_directory_path () / ("pcl_texlet_test_readers_" + std::to_string (::getpid ()) + "_" + test->name ());
-    fs::remove_all (dir_);
-    fs::create_directories (dir_);
-  }
-
-  void
-  TearDown () override
-  {
-    std::error_code ec;
-    fs::remove_all (dir_, ec);
-  }
-
-  std::string
-  file (const std::string &name) const
-  {
-    return (dir_ / name).string ();
-  }
-
-  fs::path dir_;
-};
-
-/** \brief Runs \a f, expecting an exception of type E whose message holds every one of \a needles. */
-template <typename E = pcl::IOException, typename F> void
-expectError (F &&f, std::initializer_list<std::string> needles)
-{
-  try
-  {
-    f ();
-  }
-  catch (const E &e)
-  {
-    const std::string message = e.what ();
-    for (const std::string &needle : needles)
-      EXPECT_NE (message.find (needle), std::string::npos) << "'" << needle << "' not in: " << message;
-    return;
-  }
-  ADD_FAILURE () << "no exception of the expected type thrown";
-}
-
-/** \brief Depth values over the whole 16-bit range, both bytes differing, from a fixed seed. */
-std::vector<std::uint16_t>
-depthPattern (int width, int height, unsigned seed)
-{
-  std::vector<std::uint16_t> depth (std::size_t (width) * height);
-  const std::uint16_t fixed[] = {0, 65535, 1, 256, 0x00ff, 0xff00, 0x1234};
-  std::uint32_t state = seed * 2654435761u + 1;
-  for (std::size_t i = 0; i < depth.size (); ++i)
-  {
-    state = state * 1664525u + 1013904223u;
-    depth[i] = i < sizeof (fixed) / sizeof (fixed[0]) ? fixed[i] : static_cast<std::uint16_t> (state >> 16);
-  }
-  return depth;
-}
-
-std::vector<std::uint8_t>
-rgbPattern (int width, int height, unsigned seed)
-{
-  std::vector<std::uint8_t> rgb (std::size_t (width) * height * 3);
-  for (std::size_t i = 0; i < rgb.size (); ++i)
-    rgb[i] = static_cast<std::uint8_t> (i * 31 + seed * 7);
-  return rgb;
-}
+/** \brief A fresh folder per test (test/support/temp_dir.h). */
+using ReadersTest = pcl_texlet_test::TempDirTest;
+using pcl_texlet_test::depthPattern;
+using pcl_texlet_test::expectError;
+using pcl_texlet_test::rgbPattern;
 
 CameraInfo
 camera33x17 ()
@@ -259,8 +204,9 @@ TEST_F (ReadersTest, WrittenRecordingReadsBackFrameForFrame)
   }
   EXPECT_TRUE (fs::exists (file ("rec/camera.yaml")));
   EXPECT_FALSE (fs::exists (file ("rec/rgb/frame_101.png")));
+  EXPECT_EQ (temp_.entries (), std::vector<std::string>{"rec"}); // no temporary folder beside it
   for (const auto &entry : fs::recursive_directory_iterator (dir_))
-    EXPECT_NE (entry.path ().extension (), ".tmp") << entry.path ();
+    EXPECT_EQ (entry.path ().filename ().string ().find (".tmp"), std::string::npos) << entry.path ();
 
   RecordingFolderReader reader (file ("rec"));
   ASSERT_EQ (reader.size (), 3u);

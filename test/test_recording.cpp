@@ -1,8 +1,14 @@
 /*
- * Recording folders (DESIGN.md section 4): exact PNG and camera.yaml round trips, frames streamed
+ * Recording folders (docs/inputs.md): exact PNG and camera.yaml round trips, frames streamed
  * in name order, and bad files rejected with a pcl::IOException that names the file.
  */
-#include <pcl_texlet/io/recording.h>
+#include "support/expect_error.h"
+#include "support/image_patterns.h"
+#include "support/temp_dir.h"
+
+#include <pcl_texlet/io/camera_yaml.h>
+#include <pcl_texlet/io/png_image.h>
+#include <pcl_texlet/io/recording_folder_reader.h>
 
 #include <pcl/exceptions.h>
 
@@ -17,69 +23,17 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 namespace fs = std::filesystem;
 using namespace pcl::texlet;
 
 namespace
 {
 
-/** \brief A fresh folder per test, unique across processes (ctest runs tests in parallel). */
-class RecordingTest : public ::testing::Test
-{
-protected:
-  void
-  SetUp () override
-  {
-    const ::testing::TestInfo *test = ::testing::UnitTest::GetInstance ()->current_test_info ();
-    dir_ = fs::temp_directory_path () / ("pcl_texlet_test_recording_" + std::to_string (::getpid ()) + "_" +
-                                         test->test_suite_name () + "_" + test->name ());
-    fs::remove_all (dir_);
-    fs::create_directories (dir_);
-  }
-
-  void
-  TearDown () override
-  {
-    std::error_code ec;
-    fs::remove_all (dir_, ec);
-  }
-
-  std::string
-  file (const std::string &name) const
-  {
-    return (dir_ / name).string ();
-  }
-
-  fs::path dir_;
-};
-
-/** \brief Depth values covering 0, 65535 and both bytes of a sample differing (catches swapped
-  * byte order), then a scramble of the full 16-bit range.
-  */
-std::vector<std::uint16_t>
-depthPattern (int width, int height, unsigned seed)
-{
-  std::vector<std::uint16_t> depth (static_cast<std::size_t> (width) * height);
-  const std::uint16_t fixed[] = {0, 65535, 1, 256, 0x00ff, 0xff00, 0x1234};
-  std::uint32_t state = seed * 2654435761u + 1;
-  for (std::size_t i = 0; i < depth.size (); ++i)
-  {
-    state = state * 1664525u + 1013904223u;
-    depth[i] = i < sizeof (fixed) / sizeof (fixed[0]) ? fixed[i] : static_cast<std::uint16_t> (state >> 16);
-  }
-  return depth;
-}
-
-std::vector<std::uint8_t>
-rgbPattern (int width, int height, unsigned seed)
-{
-  std::vector<std::uint8_t> rgb (static_cast<std::size_t> (width) * height * 3);
-  for (std::size_t i = 0; i < rgb.size (); ++i)
-    rgb[i] = static_cast<std::uint8_t> (i * 31 + seed * 7);
-  return rgb;
-}
+/** \brief A fresh folder per test (test/support/temp_dir.h). */
+using RecordingTest = pcl_texlet_test::TempDirTest;
+using pcl_texlet_test::depthPattern;
+using pcl_texlet_test::expectError;
+using pcl_texlet_test::rgbPattern;
 
 /** \brief 16-bit samples as PNG stores them: big-endian, independent of the host. */
 std::vector<unsigned char>
@@ -164,24 +118,6 @@ camera33x17 ()
   return info;
 }
 
-/** \brief Runs \a f, expecting a pcl::IOException whose message holds every one of \a needles. */
-template <typename F> void
-expectIoError (F &&f, std::initializer_list<std::string> needles)
-{
-  try
-  {
-    f ();
-  }
-  catch (const pcl::IOException &e)
-  {
-    const std::string message = e.what ();
-    for (const std::string &needle : needles)
-      EXPECT_NE (message.find (needle), std::string::npos) << "'" << needle << "' not in: " << message;
-    return;
-  }
-  ADD_FAILURE () << "no pcl::IOException thrown";
-}
-
 /** \brief A recording folder: camera.yaml, and depth/ (and rgb/) frames named by \a names. */
 void
 makeRecording (const fs::path &folder, const CameraInfo &info, std::initializer_list<std::string> names,
@@ -213,7 +149,7 @@ TEST_F (RecordingTest, DepthPngRoundTripKeepsEveryValueAndLeavesNoTemporaryFile)
 {
   const std::vector<std::uint16_t> depth = depthPattern (33, 17, 1);
   writeDepthPng (file ("depth.png"), depth.data (), 33, 17);
-  EXPECT_FALSE (fs::exists (file ("depth.png.tmp")));
+  EXPECT_EQ (temp_.entries (), std::vector<std::string>{"depth.png"}); // no temporary file left
 
   int width = 0, height = 0;
   EXPECT_EQ (readDepthPng (file ("depth.png"), width, height), depth);
@@ -224,7 +160,7 @@ TEST_F (RecordingTest, DepthPngRoundTripKeepsEveryValueAndLeavesNoTemporaryFile)
   const std::vector<std::uint16_t> other = depthPattern (33, 17, 2);
   writeDepthPng (file ("depth.png"), other.data (), 33, 17);
   EXPECT_EQ (readDepthPng (file ("depth.png"), width, height), other);
-  EXPECT_FALSE (fs::exists (file ("depth.png.tmp")));
+  EXPECT_EQ (temp_.entries (), std::vector<std::string>{"depth.png"}); // no temporary file left
 }
 
 TEST_F (RecordingTest, DepthPngReadsBigEndianSamplesWrittenByLibpng)
@@ -263,14 +199,14 @@ TEST_F (RecordingTest, RgbPngRoundTripKeepsEveryValueAndLeavesNoTemporaryFile)
 {
   const std::vector<std::uint8_t> rgb = rgbPattern (33, 17, 5);
   writeRgbPng (file ("rgb.png"), rgb.data (), 33, 17);
-  EXPECT_FALSE (fs::exists (file ("rgb.png.tmp")));
+  EXPECT_EQ (temp_.entries (), std::vector<std::string>{"rgb.png"}); // no temporary file left
   int width = 0, height = 0;
   EXPECT_EQ (readRgbPng (file ("rgb.png"), width, height), rgb);
   EXPECT_EQ (width, 33);
   EXPECT_EQ (height, 17);
   // An RGB image is not a depth frame, whoever wrote it.
-  expectIoError ([&] { readDepthPng (file ("rgb.png"), width, height); }, {file ("rgb.png"), "found 8-bit RGB"});
-  expectIoError ([&] { writeRgbPng (file ("no/such/folder/rgb.png"), rgb.data (), 33, 17); },
+  expectError ([&] { readDepthPng (file ("rgb.png"), width, height); }, {file ("rgb.png"), "found 8-bit RGB"});
+  expectError ([&] { writeRgbPng (file ("no/such/folder/rgb.png"), rgb.data (), 33, 17); },
                  {file ("no/such/folder/rgb.png"), "cannot create"});
 }
 
@@ -278,7 +214,7 @@ TEST_F (RecordingTest, EightBitGreyPngIsNotADepthFrame)
 {
   ASSERT_TRUE (writeGrey8Png (file ("grey8.png"), 33, 17));
   int width, height;
-  expectIoError ([&] { readDepthPng (file ("grey8.png"), width, height); },
+  expectError ([&] { readDepthPng (file ("grey8.png"), width, height); },
                  {file ("grey8.png"), "expected 16-bit grey depth, found 8-bit"});
 }
 
@@ -286,7 +222,7 @@ TEST_F (RecordingTest, RgbPngIsNotADepthFrame)
 {
   ASSERT_TRUE (writeRgb8Png (file ("colour.png"), 33, 17, rgbPattern (33, 17, 0)));
   int width, height;
-  expectIoError ([&] { readDepthPng (file ("colour.png"), width, height); },
+  expectError ([&] { readDepthPng (file ("colour.png"), width, height); },
                  {file ("colour.png"), "expected 16-bit grey depth, found 8-bit RGB"});
 }
 
@@ -295,7 +231,7 @@ TEST_F (RecordingTest, DepthPngIsNotAnRgbImage)
   const std::vector<std::uint16_t> depth = depthPattern (33, 17, 0);
   writeDepthPng (file ("depth.png"), depth.data (), 33, 17);
   int width, height;
-  expectIoError ([&] { readRgbPng (file ("depth.png"), width, height); },
+  expectError ([&] { readRgbPng (file ("depth.png"), width, height); },
                  {file ("depth.png"), "expected 8-bit RGB or RGBA, found 16-bit grey"});
 }
 
@@ -306,27 +242,27 @@ TEST_F (RecordingTest, TruncatedPngIsRejected)
   writeDepthPng (file ("cut.png"), depth.data (), 64, 48);
   fs::resize_file (file ("cut.png"), fs::file_size (file ("cut.png")) / 2);
   int width, height;
-  expectIoError ([&] { readDepthPng (file ("cut.png"), width, height); }, {file ("cut.png"), "truncated"});
+  expectError ([&] { readDepthPng (file ("cut.png"), width, height); }, {file ("cut.png"), "truncated"});
 }
 
 TEST_F (RecordingTest, TextFileNamedPngIsRejected)
 {
   writeText (file ("notes.png"), "depth frames go here\n");
   int width, height;
-  expectIoError ([&] { readDepthPng (file ("notes.png"), width, height); }, {file ("notes.png"), "not a PNG"});
+  expectError ([&] { readDepthPng (file ("notes.png"), width, height); }, {file ("notes.png"), "not a PNG"});
 }
 
 TEST_F (RecordingTest, MissingPngIsRejected)
 {
   int width, height;
-  expectIoError ([&] { readDepthPng (file ("absent.png"), width, height); },
+  expectError ([&] { readDepthPng (file ("absent.png"), width, height); },
                  {file ("absent.png"), "does not exist"});
 }
 
 TEST_F (RecordingTest, DepthPngIntoMissingFolderFailsWithoutLeavingFiles)
 {
   const std::vector<std::uint16_t> depth = depthPattern (4, 3, 0);
-  expectIoError ([&] { writeDepthPng (file ("no/such/folder/d.png"), depth.data (), 4, 3); },
+  expectError ([&] { writeDepthPng (file ("no/such/folder/d.png"), depth.data (), 4, 3); },
                  {file ("no/such/folder/d.png"), "cannot create"});
   EXPECT_TRUE (fs::is_empty (dir_));
 }
@@ -338,7 +274,7 @@ TEST_F (RecordingTest, CameraYamlRoundTripIsExact)
 {
   const CameraInfo a = camera33x17 ();
   saveCameraInfoYaml (file ("camera.yaml"), a);
-  EXPECT_FALSE (fs::exists (file ("camera.yaml.tmp")));
+  EXPECT_EQ (temp_.entries (), std::vector<std::string>{"camera.yaml"}); // no temporary file left
   const CameraInfo b = loadCameraInfoYaml (file ("camera.yaml"));
   EXPECT_EQ (b.width, 33);
   EXPECT_EQ (b.height, 17);
@@ -392,7 +328,7 @@ TEST_F (RecordingTest, RosCameraInfoWithoutOptionalKeysUsesDefaults)
 TEST_F (RecordingTest, MalformedCameraYamlIsRejected)
 {
   writeText (file ("camera.yaml"), "image_width: [640\nimage_height: 480\n");
-  expectIoError ([&] { loadCameraInfoYaml (file ("camera.yaml")); }, {file ("camera.yaml"), "not valid YAML"});
+  expectError ([&] { loadCameraInfoYaml (file ("camera.yaml")); }, {file ("camera.yaml"), "not valid YAML"});
 }
 
 TEST_F (RecordingTest, BadCameraYamlContentNamesFileAndProblem)
@@ -428,7 +364,7 @@ TEST_F (RecordingTest, BadCameraYamlContentNamesFileAndProblem)
   {
     SCOPED_TRACE (c.yaml);
     writeText (file ("camera.yaml"), c.yaml);
-    expectIoError ([&] { loadCameraInfoYaml (file ("camera.yaml")); }, {file ("camera.yaml"), c.problem});
+    expectError ([&] { loadCameraInfoYaml (file ("camera.yaml")); }, {file ("camera.yaml"), c.problem});
   }
 }
 
@@ -488,14 +424,14 @@ TEST_F (RecordingTest, IsRecordingFolderNeedsCameraYamlAndDepth)
 
 TEST_F (RecordingTest, MissingFolderIsRejected)
 {
-  expectIoError ([&] { RecordingFolderReader reader (file ("absent")); }, {file ("absent"), "does not exist"});
+  expectError ([&] { RecordingFolderReader reader (file ("absent")); }, {file ("absent"), "does not exist"});
 }
 
 TEST_F (RecordingTest, FolderWithoutCameraYamlIsRejected)
 {
   makeRecording (dir_ / "rec", camera33x17 (), {"0"}, false);
   fs::remove (dir_ / "rec" / "camera.yaml");
-  expectIoError ([&] { RecordingFolderReader reader (file ("rec")); },
+  expectError ([&] { RecordingFolderReader reader (file ("rec")); },
                  {file ("rec/camera.yaml"), "does not exist"});
 }
 
@@ -503,10 +439,10 @@ TEST_F (RecordingTest, FolderWithoutDepthFramesIsRejected)
 {
   fs::create_directories (dir_ / "rec");
   saveCameraInfoYaml (file ("rec/camera.yaml"), camera33x17 ());
-  expectIoError ([&] { RecordingFolderReader reader (file ("rec")); }, {file ("rec"), "no depth/ subfolder"});
+  expectError ([&] { RecordingFolderReader reader (file ("rec")); }, {file ("rec"), "no depth/ subfolder"});
   fs::create_directories (dir_ / "rec" / "depth");
   writeText (file ("rec/depth/readme.txt"), "frames come later\n");
-  expectIoError ([&] { RecordingFolderReader reader (file ("rec")); }, {file ("rec"), "depth/ is empty"});
+  expectError ([&] { RecordingFolderReader reader (file ("rec")); }, {file ("rec"), "depth/ is empty"});
 }
 
 TEST_F (RecordingTest, FrameSizeDifferentFromCameraYamlIsRejectedAndSkippable)
@@ -517,7 +453,7 @@ TEST_F (RecordingTest, FrameSizeDifferentFromCameraYamlIsRejectedAndSkippable)
 
   RecordingFolderReader reader (file ("rec"));
   DepthFrame frame;
-  expectIoError ([&] { reader.next (frame); },
+  expectError ([&] { reader.next (frame); },
                  {file ("rec/depth/0.png"), "is 32x17 but camera.yaml says 33x17", file ("rec/camera.yaml")});
   // The bad frame was consumed, so a caller that skips it gets the next one.
   ASSERT_TRUE (reader.next (frame));
@@ -533,7 +469,7 @@ TEST_F (RecordingTest, RgbSizeDifferentFromCameraYamlIsRejected)
   ASSERT_TRUE (writeRgb8Png (file ("rec/rgb/0.png"), 33, 16, rgbPattern (33, 16, 0)));
   RecordingFolderReader reader (file ("rec"));
   DepthFrame frame;
-  expectIoError ([&] { reader.next (frame); }, {file ("rec/rgb/0.png"), "is 33x16 but camera.yaml says 33x17"});
+  expectError ([&] { reader.next (frame); }, {file ("rec/rgb/0.png"), "is 33x16 but camera.yaml says 33x17"});
 }
 
 TEST_F (RecordingTest, BadDepthFrameInFolderNamesTheFile)
@@ -542,5 +478,5 @@ TEST_F (RecordingTest, BadDepthFrameInFolderNamesTheFile)
   ASSERT_TRUE (writeGrey8Png (file ("rec/depth/0.png"), 33, 17));
   RecordingFolderReader reader (file ("rec"));
   DepthFrame frame;
-  expectIoError ([&] { reader.next (frame); }, {file ("rec/depth/0.png"), "found 8-bit grey"});
+  expectError ([&] { reader.next (frame); }, {file ("rec/depth/0.png"), "found 8-bit grey"});
 }

@@ -4,6 +4,8 @@
  * double loop, texlets moved between frames (with Sigma_N re-expressed), merging, extrinsics
  * and object files, and face labels.
  */
+#include "support/temp_dir.h"
+
 #include <pcl_texlet/kernels/relation_histogram.h>
 #include <pcl_texlet/kernels/texlet_relation.h>
 #include <pcl_texlet/relations/extrinsics.h>
@@ -19,8 +21,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
-
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -71,26 +71,7 @@ texletsOnFaces (const KnownObject &object, int per_axis, std::vector<int> *label
   return cloud;
 }
 
-class RelationFiles : public ::testing::Test
-{
-protected:
-  fs::path dir = fs::temp_directory_path () / ("pcl_texlet_relations_" + std::to_string (::getpid ()) + "_" +
-                                               ::testing::UnitTest::GetInstance ()->current_test_info ()->name ());
-  void SetUp () override
-  {
-    fs::remove_all (dir);
-    fs::create_directories (dir);
-  }
-  void TearDown () override { fs::remove_all (dir); }
-
-  std::string
-  write (const std::string &name, const std::string &text)
-  {
-    const fs::path p = dir / name;
-    std::ofstream (p) << text;
-    return p.string ();
-  }
-};
+using RelationFiles = pcl_texlet_test::TempDirTest;
 
 template <typename F>
 std::string
@@ -476,13 +457,13 @@ TEST_F (RelationFiles, ExtrinsicsRoundTripAndBothPoseLayouts)
   in[1].name = "kinect b";
   in[1].pose.linear () = Eigen::AngleAxisd (1.1, Eigen::Vector3d (0.3, -1, 0.2).normalized ()).toRotationMatrix ();
   in[1].pose.translation () = Eigen::Vector3d (0.5, -0.25, 1.75);
-  const std::string path = (dir / "extrinsics.yaml").string ();
+  const std::string path = (dir_ / "extrinsics.yaml").string ();
   saveExtrinsicsYaml (path, in);
   const auto out = loadExtrinsicsYaml (path);
   ASSERT_EQ (out.size (), 2u);
   EXPECT_EQ (out[1].name, "kinect b");
   EXPECT_TRUE (out[1].pose.matrix ().isApprox (in[1].pose.matrix (), 1e-15));
-  EXPECT_FALSE (fs::exists (dir / ".extrinsics.tmp.yaml"));
+  EXPECT_EQ (temp_.entries (), std::vector<std::string>{"extrinsics.yaml"}); // no temporary file left
 
   const auto rows = loadExtrinsicsYaml (write ("rows.yaml", "sensors:\n  - name: a\n    pose: [[0, -1, 0, 0.5], [1, 0, 0, 0], "
                                                             "[0, 0, 1, 1.0], [0, 0, 0, 1]]\n"));
@@ -492,7 +473,7 @@ TEST_F (RelationFiles, ExtrinsicsRoundTripAndBothPoseLayouts)
 
 TEST_F (RelationFiles, BadExtrinsicsAreNamed)
 {
-  EXPECT_NE (ioError ([&] { loadExtrinsicsYaml ((dir / "missing.yaml").string ()); }).find ("missing.yaml"),
+  EXPECT_NE (ioError ([&] { loadExtrinsicsYaml ((dir_ / "missing.yaml").string ()); }).find ("missing.yaml"),
              std::string::npos);
   EXPECT_NE (ioError ([&] { loadExtrinsicsYaml (write ("bad.yaml", "sensors: [a: {")); }).find ("not valid YAML"),
              std::string::npos);
@@ -539,7 +520,7 @@ TEST_F (RelationFiles, MetaYamlPoseIsTheSimulatorsSensorPose)
     EXPECT_EQ (projectorsFromMetaYaml (meta, 7), 3);
   }
   Eigen::Isometry3d pose;
-  EXPECT_FALSE (poseFromMetaYaml ((dir / "none.yaml").string (), pose));
+  EXPECT_FALSE (poseFromMetaYaml ((dir_ / "none.yaml").string (), pose));
   EXPECT_FALSE (poseFromMetaYaml (write ("nopose.yaml", "scene: box\n"), pose));
   EXPECT_EQ (projectorsFromMetaYaml (write ("noproj.yaml", "scene: box\n"), 1), 1);
   EXPECT_THROW (projectorsFromMetaYaml (write ("zero.yaml", "projectors: 0\n")), pcl::IOException);
@@ -631,6 +612,6 @@ TEST_F (RelationFiles, ObjectFilesAndTheirErrors)
              std::string::npos);
   EXPECT_NE (err ("tol.yaml", "box: {size_mm: [1, 1, 1], plate_mm: 5}\ntolerance: {angle_deg: 0}\n").find ("positive"),
              std::string::npos);
-  EXPECT_NE (ioError ([&] { loadKnownObjectYaml ((dir / "absent.yaml").string ()); }).find ("absent.yaml"),
+  EXPECT_NE (ioError ([&] { loadKnownObjectYaml ((dir_ / "absent.yaml").string ()); }).find ("absent.yaml"),
              std::string::npos);
 }

@@ -2,19 +2,20 @@
  * pcl_texlet_viewer --screenshot under Xvfb: the image shows the scene and the texlets (their
  * exact mean colours), and bad input exits 2 with one line and no image.
  */
-#include <pcl_texlet/io/recording.h>
+#include "support/app_run.h"
+#include "support/recording_folder.h"
+#include "support/temp_dir.h"
+
+#include <pcl_texlet/io/png_image.h>
 #include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/io/pcd_io.h>
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -41,42 +42,31 @@ struct Image
   }
 };
 
-class Viewer : public ::testing::Test
+class Viewer : public pcl_texlet_test::TempDirTest
 {
 protected:
-  fs::path dir = fs::temp_directory_path () /
-                 ("pcl_texlet_viewer_" + std::to_string (::getpid ()) + "_" +
-                  ::testing::UnitTest::GetInstance ()->current_test_info ()->name ());
-
   void
   SetUp () override
   {
     if (std::string (XVFB_RUN).empty ())
       GTEST_SKIP () << "xvfb-run is not installed: no X server for the viewer";
-    fs::create_directories (dir);
   }
-  void TearDown () override { fs::remove_all (dir); }
 
+  /** Runs the viewer under xvfb-run; its stdout stays in the test folder's "stdout". */
   int
   run (const std::string &args, std::string *err = nullptr)
   {
-    const std::string cmd = std::string (XVFB_RUN) + " -a -s '-screen 0 1280x1024x24' " + VIEWER_APP + " " + args +
-                            " > " + (dir / "out").string () + " 2> " + (dir / "err").string ();
-    const int status = std::system (cmd.c_str ());
+    const pcl_texlet_test::AppResult r =
+        pcl_texlet_test::runCommand (std::string (XVFB_RUN) + " -a -s '-screen 0 1280x1024x24' " + VIEWER_APP + " " + args, dir_);
     if (err)
-    {
-      std::ifstream f (dir / "err");
-      std::stringstream s;
-      s << f.rdbuf ();
-      *err = s.str ();
-    }
-    return WIFEXITED (status) ? WEXITSTATUS (status) : -1;
+      *err = r.err;
+    return r.code;
   }
 
   Image
   screenshot (const std::string &args)
   {
-    const fs::path png = dir / "shot.png";
+    const fs::path png = dir_ / "shot.png";
     fs::remove (png);
     std::string err;
     const int rc = run (args + " --size 640 --screenshot " + png.string (), &err);
@@ -117,7 +107,7 @@ TEST_F (Viewer, ScreenshotShowsTheSceneAndTheTexlets)
   est.setUncertaintyMethod (pcl::texlet::UncertaintyMethod::None);
   pcl::PointCloud<pcl::Texlet> texlets;
   est.compute (texlets);
-  const fs::path file = dir / "texlets.pcd";
+  const fs::path file = dir_ / "texlets.pcd";
   ASSERT_EQ (pcl::io::savePCDFileBinary (file.string (), texlets), 0);
   std::set<std::uint32_t> colours;
   for (const auto &t : texlets)
@@ -146,19 +136,8 @@ TEST_F (Viewer, ScreenshotShowsTheSceneAndTheTexlets)
 TEST_F (Viewer, RecordingFolderAndPcdFolder)
 {
   // A recording folder of a tilted wall (grey: no rgb frames).
-  const fs::path rec = dir / "rec";
-  fs::create_directories (rec / "depth");
-  pcl::texlet::CameraInfo info;
-  info.width = 160;
-  info.height = 120;
-  const double K[9] = {130, 0, 79.5, 0, 130, 59.5, 0, 0, 1};
-  std::copy (K, K + 9, info.K);
-  pcl::texlet::saveCameraInfoYaml ((rec / "camera.yaml").string (), info);
-  std::vector<std::uint16_t> depth (160 * 120);
-  for (int v = 0; v < 120; ++v)
-    for (int u = 0; u < 160; ++u)
-      depth[v * 160 + u] = static_cast<std::uint16_t> (900 + 2 * u + v);
-  pcl::texlet::writeDepthPng ((rec / "depth" / "000000.png").string (), depth.data (), 160, 120);
+  const fs::path rec = pcl_texlet_test::writeRecordingFolder (dir_ / "rec", pcl_texlet_test::centredCamera (160, 120, 130), 1,
+                                                              [] (int u, int v, int) { return 900 + 2 * u + v; });
   EXPECT_GT (litFraction (screenshot (rec.string () + " --layers texlets --spacing 4")), 0.3);
   EXPECT_GT (litFraction (screenshot (fs::path (kFrame).parent_path ().string () + " --layers cloud -u none")), 0.5);
 }
@@ -168,23 +147,19 @@ TEST_F (Viewer, GrabberTiffFolder)
   // The bundled sequence's TIFF depth frames + intrinsics XML, back-projected by the viewer.
   const std::string folder = fs::path (kFrame).parent_path ().parent_path ().string (); // holds tiff/ and pcd/
   EXPECT_GT (litFraction (screenshot (folder + " --layers cloud,texlets -u none")), 0.5);
-  std::ifstream out (dir / "out");
-  std::stringstream s;
-  s << out.rdbuf ();
+  const std::string out = pcl_texlet_test::slurp (dir_ / "stdout");
   // Frames of the TIFF reader are named by their time stamp, without the PCD folder's ".pcd".
-  EXPECT_NE (s.str ().find ("frame_20121214T142255.814212  |"), std::string::npos) << s.str ();
+  EXPECT_NE (out.find ("frame_20121214T142255.814212  |"), std::string::npos) << out;
 }
 
 TEST_F (Viewer, GpuBackendRunsOrSaysWhyNot)
 {
   // With a CUDA device (and a CUDA build) the texlets come from the GPU backend; without one,
   // --gpu is refused on one line naming the reason, and no image is written.
-  const fs::path png = dir / "shot.png";
+  const fs::path png = dir_ / "shot.png";
   std::string err;
   const int rc = run (kFrame + " -u analytic --gpu --size 640 --screenshot " + png.string (), &err);
-  std::ifstream out (dir / "out");
-  std::stringstream s;
-  s << out.rdbuf ();
+  const std::string out = pcl_texlet_test::slurp (dir_ / "stdout");
   if (rc == 2)
   {
     EXPECT_EQ (std::count (err.begin (), err.end (), '\n'), 1) << err;
@@ -196,7 +171,7 @@ TEST_F (Viewer, GpuBackendRunsOrSaysWhyNot)
   else
   {
     ASSERT_EQ (rc, 0) << err;
-    EXPECT_NE (s.str ().find ("(GPU, spacing 6"), std::string::npos) << s.str ();
+    EXPECT_NE (out.find ("(GPU, spacing 6"), std::string::npos) << out;
     Image img;
     img.rgb = pcl::texlet::readRgbPng (png.string (), img.width, img.height);
     EXPECT_GT (litFraction (img), 0.3);
@@ -208,25 +183,23 @@ TEST_F (Viewer, WithoutInputOrSensorItPlaysTheBundledFrames)
   // No OpenNI2 device is connected on a test machine: the viewer falls back to data/kinect.
   const Image img = screenshot ("-u none");
   EXPECT_GT (litFraction (img), 0.5);
-  std::ifstream out (dir / "out");
-  std::stringstream s;
-  s << out.rdbuf ();
-  EXPECT_NE (s.str ().find ("frame_20121214T142255.814212.pcd"), std::string::npos) << s.str ();
+  const std::string out = pcl_texlet_test::slurp (dir_ / "stdout");
+  EXPECT_NE (out.find ("frame_20121214T142255.814212.pcd"), std::string::npos) << out;
 }
 
 TEST_F (Viewer, BadInputExitsTwoWithOneLineAndNoImage)
 {
-  const fs::path png = dir / "shot.png";
+  const fs::path png = dir_ / "shot.png";
   pcl::PointCloud<pcl::PointXYZ> flat;
   flat.resize (100, pcl::PointXYZ (0, 0, 1));
-  pcl::io::savePCDFileBinary ((dir / "flat.pcd").string (), flat);
+  pcl::io::savePCDFileBinary ((dir_ / "flat.pcd").string (), flat);
   for (const auto &[args, needle] : std::vector<std::pair<std::string, std::string>>{
-           {(dir / "missing.pcd").string (), "missing.pcd"},
-           {(dir / "flat.pcd").string (), "not an organised"},
+           {(dir_ / "missing.pcd").string (), "missing.pcd"},
+           {(dir_ / "flat.pcd").string (), "not an organised"},
            {kFrame + " --layers cloud,sparkles", "sparkles"},
            {kFrame + " --spacing 0", "spacing"},
            {kFrame + " --fit ransac", "ransac"},
-           {(dir / "nowhere").string () + "/x.oni", "does not exist"}})
+           {(dir_ / "nowhere").string () + "/x.oni", "does not exist"}})
   {
     std::string err;
     EXPECT_EQ (run (args + " --screenshot " + png.string (), &err), 2) << args;
@@ -235,6 +208,6 @@ TEST_F (Viewer, BadInputExitsTwoWithOneLineAndNoImage)
     EXPECT_FALSE (fs::exists (png));
   }
   std::string err;
-  EXPECT_EQ (run (kFrame + " --screenshot " + (dir / "no" / "dir" / "shot.png").string (), &err), 2);
+  EXPECT_EQ (run (kFrame + " --screenshot " + (dir_ / "no" / "dir" / "shot.png").string (), &err), 2);
   EXPECT_NE (err.find ("does not exist"), std::string::npos) << err;
 }

@@ -1,6 +1,6 @@
 /*
  * pcl_texlet_extract: texlets from an organised PCD file, a folder of them, or any recording
- * openRecording () reads (DESIGN.md section 4: recording folder, PCL grabber TIFF folder, .oni
+ * openRecording () reads (docs/inputs.md: recording folder, PCL grabber TIFF folder, .oni
  * file), written as texlet PCD files, with a summary on stdout.
  *
  * Exit codes: 0 success, 2 bad input or options (one line on stderr), 1 unexpected failure.
@@ -9,11 +9,12 @@
 #include "../common/folder_guard.h"
 #include <pcl_texlet/io/frame_skipping_reader.h>
 #include <pcl_texlet/camera/depth_image.h>
+#include <pcl_texlet/common/atomic_file.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/lab/recording_measurement.h>
 #include <pcl_texlet/camera/pinhole_model.h>
-#include <pcl_texlet/io/recording.h>
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/open_recording.h>
+#include <pcl_texlet/io/pcd_folder_reader.h>
 #include <pcl_texlet/io/openni2_device_reader.h>
 #include <pcl_texlet/io/noise_model_io.h>
 #include <pcl_texlet/features/texlet_estimation.h>
@@ -112,24 +113,16 @@ median (std::vector<double> v)
   return v[v.size () / 2];
 }
 
-/** Writes atomically: to a temporary name, renamed once complete. */
+/** Writes through a temporary file, renamed once complete. */
 void
 writeTexlets (const std::string &path, const pcl::PointCloud<pcl::Texlet> &texlets, bool ascii)
 {
-  const std::string tmp = path + ".tmp";
+  pcl::texlet::AtomicFile file (path);
+  const std::string &tmp = file.temporaryPath ();
   const int rc = ascii ? pcl::PCDWriter ().writeASCII (tmp, texlets, 9) : pcl::PCDWriter ().writeBinary (tmp, texlets);
-  std::error_code ec;
   if (rc != 0)
-  {
-    fs::remove (tmp, ec);
     throw InputError ("cannot write '" + path + "'");
-  }
-  fs::rename (tmp, path, ec);
-  if (ec)
-  {
-    fs::remove (tmp, ec);
-    throw InputError ("cannot write '" + path + "': " + ec.message ());
-  }
+  file.commit ();
 }
 
 class Extractor

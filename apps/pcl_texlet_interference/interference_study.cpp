@@ -2,7 +2,7 @@
 
 #include <pcl_texlet/camera/depth_image.h>
 #include <pcl_texlet/camera/pinhole_model.h>
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/open_recording.h>
 #include <pcl_texlet/simulation/kinect_simulator.h>
 #include <pcl_texlet/simulation/scene_setup.h>
 #include <pcl_texlet/features/texlet_estimation.h>

@@ -19,7 +19,8 @@
 #include <pcl_texlet/relations/known_object.h>
 #include <pcl_texlet/relations/texlet_merge.h>
 #include <pcl_texlet/relations/texlet_relations.h>
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/camera/camera_info.h>
+#include <pcl_texlet/camera/depth_frame.h>
 #include <pcl_texlet/features/texlet_parameters.h>
 
 #include <functional>

@@ -1,5 +1,7 @@
 #include "study_report.h"
 
+#include <pcl_texlet/report/base64.h>
+
 #include <pcl/exceptions.h>
 
 #include <cmath>
@@ -34,47 +36,13 @@ round3 (double v)
 }
 
 std::string
-base64 (const std::string &bytes)
-{
-  static const char *table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve ((bytes.size () + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 2 < bytes.size (); i += 3)
-  {
-    const unsigned v = (static_cast<unsigned char> (bytes[i]) << 16) | (static_cast<unsigned char> (bytes[i + 1]) << 8) |
-                       static_cast<unsigned char> (bytes[i + 2]);
-    out += table[(v >> 18) & 63];
-    out += table[(v >> 12) & 63];
-    out += table[(v >> 6) & 63];
-    out += table[v & 63];
-  }
-  if (i + 1 == bytes.size ())
-  {
-    const unsigned v = static_cast<unsigned char> (bytes[i]) << 16;
-    out += table[(v >> 18) & 63];
-    out += table[(v >> 12) & 63];
-    out += "==";
-  }
-  else if (i + 2 == bytes.size ())
-  {
-    const unsigned v = (static_cast<unsigned char> (bytes[i]) << 16) | (static_cast<unsigned char> (bytes[i + 1]) << 8);
-    out += table[(v >> 18) & 63];
-    out += table[(v >> 12) & 63];
-    out += table[(v >> 6) & 63];
-    out += '=';
-  }
-  return out;
-}
-
-std::string
 imageTag (const std::string &folder, const std::string &name, const std::string &alt)
 {
   std::ifstream in (fs::path (folder) / name, std::ios::binary);
   if (!in)
     throw pcl::IOException ("report: cannot read the image '" + name + "' to embed");
   const std::string bytes ((std::istreambuf_iterator<char> (in)), std::istreambuf_iterator<char> ());
-  return "<img alt=\"" + alt + "\" src=\"data:image/png;base64," + base64 (bytes) + "\">";
+  return "<img alt=\"" + alt + "\" src=\"data:image/png;base64," + pcl::texlet::base64 (bytes) + "\">";
 }
 
 std::string
@@ -252,29 +220,33 @@ studyHtml (const json &j, const std::string &folder, const std::string &curves_p
     }
   h << "</div>\n";
 
+  // One table row per item of a cell's list (its faces, its peaks), cells in table order.
+  const auto eachItem = [&] (const char *list, const auto &row) {
+    for (int p : projectors)
+      for (int r : radii)
+        if (cell.count ({p, r}))
+          for (const auto &item : (*cell[{p, r}])[list])
+            row (p, r, item);
+  };
   h << "<h2>Per face (texlets labelled by position on the known object)</h2>\n";
   h << "<table><tr><th>projectors</th><th>radius</th><th>face</th><th>texlets</th><th>RMS plane distance (mm)</th>"
        "<th>RMS normal angle (&deg;)</th><th>median normal angle (&deg;)</th><th>inliers of its relations (%)</th></tr>\n";
-  for (int p : projectors)
-    for (int r : radii)
-      if (cell.count ({p, r}))
-        for (const auto &f : (*cell[{p, r}])["faces"])
-          h << "<tr><td>" << p << "</td><td>" << r << "</td><td style=\"text-align:left\">"
-            << escape (f["face"].get<std::string> ()) << "</td><td>" << f["texlets"].get<std::size_t> () << "</td><td>"
-            << fixed (f["rms_plane_distance_mm"], 2) << "</td><td>" << fixed (f["rms_normal_angle_deg"], 2) << "</td><td>" << fixed (f["median_normal_angle_deg"], 2) << "</td><td>"
-            << fixed (f["inlier_percent"]) << "</td></tr>\n";
+  eachItem ("faces", [&] (int p, int r, const json &f) {
+    h << "<tr><td>" << p << "</td><td>" << r << "</td><td style=\"text-align:left\">"
+      << escape (f["face"].get<std::string> ()) << "</td><td>" << f["texlets"].get<std::size_t> () << "</td><td>"
+      << fixed (f["rms_plane_distance_mm"], 2) << "</td><td>" << fixed (f["rms_normal_angle_deg"], 2) << "</td><td>"
+      << fixed (f["median_normal_angle_deg"], 2) << "</td><td>" << fixed (f["inlier_percent"]) << "</td></tr>\n";
+  });
   h << "</table>\n";
 
   h << "<h2>Peaks of the point relations</h2>\n<table><tr><th>projectors</th><th>radius</th><th>relation</th>"
        "<th>expected (mm, &deg;)</th><th>peak (mm, &deg;)</th><th>count</th></tr>\n";
-  for (int p : projectors)
-    for (int r : radii)
-      if (cell.count ({p, r}))
-        for (const auto &k : (*cell[{p, r}])["peaks"])
-          h << "<tr><td>" << p << "</td><td>" << r << "</td><td style=\"text-align:left\">"
-            << escape (k["relation"].get<std::string> ()) << "</td><td>" << fixed (k["expected_distance_mm"], 0)
-            << ", " << fixed (k["expected_angle_deg"], 0) << "</td><td>" << fixed (k["peak_distance_mm"]) << ", "
-            << fixed (k["peak_angle_deg"]) << "</td><td>" << k["peak_count"].get<std::uint64_t> () << "</td></tr>\n";
+  eachItem ("peaks", [&] (int p, int r, const json &k) {
+    h << "<tr><td>" << p << "</td><td>" << r << "</td><td style=\"text-align:left\">"
+      << escape (k["relation"].get<std::string> ()) << "</td><td>" << fixed (k["expected_distance_mm"], 0) << ", "
+      << fixed (k["expected_angle_deg"], 0) << "</td><td>" << fixed (k["peak_distance_mm"]) << ", "
+      << fixed (k["peak_angle_deg"]) << "</td><td>" << k["peak_count"].get<std::uint64_t> () << "</td></tr>\n";
+  });
   h << "</table>\n<h2>Setup</h2>\n<pre>" << escape (j["setup"].dump (2)) << "</pre>\n</body></html>\n";
   return h.str ();
 }

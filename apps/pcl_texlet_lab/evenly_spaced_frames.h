@@ -8,7 +8,7 @@
  */
 #pragma once
 
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/recording_reader.h>
 
 #include <pcl/exceptions.h>
 

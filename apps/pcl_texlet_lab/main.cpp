@@ -11,7 +11,7 @@
 #include "../common/app_main.h"
 #include "evenly_spaced_frames.h"
 #include <pcl_texlet/io/frame_skipping_reader.h>
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/open_recording.h>
 #include <pcl_texlet/report/lab_report.h>
 #include <pcl_texlet/lab/model_lab.h>
 #include <pcl_texlet/io/noise_model_io.h>

@@ -13,6 +13,8 @@
  */
 #include "common/app_main.h"
 
+#include <pcl_texlet/common/atomic_file.h>
+
 #include <OpenNI.h>
 
 #include <algorithm>
@@ -23,7 +25,6 @@
 #include <iostream>
 #include <string>
 #include <system_error>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 using pcl_texlet_app::InputError;
@@ -49,19 +50,6 @@ openniError ()
     text.pop_back ();
   return text.empty () ? "no reason given" : text;
 }
-
-/** Removes the temporary file unless released. */
-struct TemporaryFile
-{
-  std::string path;
-  bool keep = false;
-  ~TemporaryFile ()
-  {
-    std::error_code ec;
-    if (!keep && !path.empty ())
-      fs::remove (path, ec);
-  }
-};
 
 int
 run (int argc, char **argv)
@@ -132,10 +120,10 @@ run (int argc, char **argv)
     }
   }
 
-  TemporaryFile partial;
-  partial.path = (folder / ("." + fs::path (output).stem ().string () + ".partial-" + std::to_string (getpid ()) + ".oni")).string ();
+  // OpenNI2 plays and counts only files named *.oni: the temporary keeps the extension.
+  pcl::texlet::AtomicFile partial ((folder / fs::path (output).filename ()).string ());
   openni::Recorder recorder;
-  if (recorder.create (partial.path.c_str ()) != openni::STATUS_OK || recorder.attach (depth, false) != openni::STATUS_OK ||
+  if (recorder.create (partial.temporaryPath ().c_str ()) != openni::STATUS_OK || recorder.attach (depth, false) != openni::STATUS_OK ||
       (colour.isValid () && recorder.attach (colour, true) != openni::STATUS_OK) || recorder.start () != openni::STATUS_OK)
     throw InputError ("cannot record into '" + output + "': " + openniError ());
   // Recorder::start () only queues the start for the recorder's thread, which drops frames that
@@ -203,7 +191,7 @@ run (int argc, char **argv)
   {
     openni::Device file;
     openni::VideoStream stream;
-    if (file.open (partial.path.c_str ()) == openni::STATUS_OK && stream.create (file, openni::SENSOR_DEPTH) == openni::STATUS_OK &&
+    if (file.open (partial.temporaryPath ().c_str ()) == openni::STATUS_OK && stream.create (file, openni::SENSOR_DEPTH) == openni::STATUS_OK &&
         file.getPlaybackControl ())
       stored = file.getPlaybackControl ()->getNumberOfFrames (stream);
     if (stream.isValid ())
@@ -214,10 +202,7 @@ run (int argc, char **argv)
   if (stored < frames)
     throw InputError ("the recording '" + output + "' holds " + std::to_string (stored) + " depth frames, not " +
                       std::to_string (frames) + ": OpenNI2's recorder lost frames");
-  fs::rename (partial.path, output, ec);
-  if (ec)
-    throw InputError ("cannot rename '" + partial.path + "' to '" + output + "': " + ec.message ());
-  partial.keep = true;
+  partial.commit ();
   if (!quiet)
     std::cout << "recorded " << stored << " depth frames" << (had_colour ? " and their colour" : "") << " into "
               << output << std::endl;

@@ -3,8 +3,7 @@
 #include <pcl_texlet/camera/depth_image.h>
 #include <pcl_texlet/io/guarded_openni2_grabber.h>
 #include <pcl_texlet/camera/pinhole_model.h>
-#include <pcl_texlet/io/recording.h>
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/open_recording.h>
 
 #include <pcl/common/io.h> // pcl::copyPointCloud
 #include <pcl/exceptions.h>

@@ -82,6 +82,22 @@ typicalRadius (const pcl::PointCloud<pcl::Texlet> &texlets)
   return r[r.size () / 2];
 }
 
+/** Lines through \a centre along each principal axis of the covariance \a cov, each way as long
+  * as \a half (scale * SD, unit eigenvector) says (in 3-D).
+  */
+template <typename Covariance, typename Half> void
+sdAxes (Geometry &g, const Eigen::Vector3f &centre, const Covariance &cov, float scale, Half half,
+        const unsigned char rgb[3])
+{
+  const Eigen::SelfAdjointEigenSolver<Covariance> eig (cov);
+  for (int i = 0; i < Covariance::RowsAtCompileTime; ++i)
+  {
+    const float sd = std::sqrt (std::max (0.0f, eig.eigenvalues ()[i]));
+    const Eigen::Vector3f h = half (scale * sd, eig.eigenvectors ().col (i));
+    g.line (centre - h, centre + h, rgb);
+  }
+}
+
 } // namespace
 
 vtkSmartPointer<vtkActor>
@@ -132,13 +148,8 @@ makeSigmaPActor (const pcl::PointCloud<pcl::Texlet> &texlets, const LayerScales 
   {
     if (!valid (t) || !std::isfinite (t.cov_p_xx))
       continue;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig (t.covarianceP ());
-    for (int i = 0; i < 3; ++i)
-    {
-      const float sd = std::sqrt (std::max (0.0f, eig.eigenvalues ()[i]));
-      const Eigen::Vector3f half = static_cast<float> (scales.sigma_p) * sd * eig.eigenvectors ().col (i);
-      g.line (t.getVector3fMap () - half, t.getVector3fMap () + half, red);
-    }
+    sdAxes (g, t.getVector3fMap (), t.covarianceP (), static_cast<float> (scales.sigma_p),
+            [] (float scaled_sd, const Eigen::Vector3f &axis) -> Eigen::Vector3f { return scaled_sd * axis; }, red);
   }
   return g.actor (2.0f);
 }
@@ -154,15 +165,11 @@ makeSigmaNActor (const pcl::PointCloud<pcl::Texlet> &texlets, const LayerScales 
     if (!valid (t) || !std::isfinite (t.cov_n_11))
       continue;
     const Eigen::Vector3f tip = t.getVector3fMap () + length * t.getNormalVector3fMap ();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2f> eig (t.covarianceN ());
     const Eigen::Matrix<float, 3, 2> tf = t.tangentFrame ();
-    for (int i = 0; i < 2; ++i)
-    {
-      const float sd = std::sqrt (std::max (0.0f, eig.eigenvalues ()[i]));
-      // An angular deviation of sd radians moves the tip by sd * length along that tangent.
-      const Eigen::Vector3f half = static_cast<float> (scales.sigma_n) * sd * length * (tf * eig.eigenvectors ().col (i));
-      g.line (tip - half, tip + half, green);
-    }
+    // An angular deviation of sd radians moves the tip by sd * length along that tangent.
+    sdAxes (g, tip, t.covarianceN (), static_cast<float> (scales.sigma_n),
+            [&] (float scaled_sd, const Eigen::Vector2f &axis) -> Eigen::Vector3f { return scaled_sd * length * (tf * axis); },
+            green);
   }
   return g.actor (2.0f);
 }

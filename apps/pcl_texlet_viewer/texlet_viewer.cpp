@@ -3,6 +3,7 @@
 #include "../common/app_main.h"
 #include "texlet_backend.h"
 
+#include <pcl_texlet/common/atomic_file.h>
 #include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/filters/filter.h>
@@ -210,20 +211,15 @@ TexletViewer::screenshot (const std::string &path)
   grab->SetInput (vis_->getRenderWindow ());
   grab->ReadFrontBufferOff ();
   grab->Update ();
-  const std::string tmp = path + ".tmp.png";
+  pcl::texlet::AtomicFile file (path);
   auto writer = vtkSmartPointer<vtkPNGWriter>::New ();
-  writer->SetFileName (tmp.c_str ());
+  writer->SetFileName (file.temporaryPath ().c_str ());
   writer->SetInputConnection (grab->GetOutputPort ());
   writer->Write ();
   std::error_code ec;
-  if (writer->GetErrorCode () != 0 || !fs::is_regular_file (tmp))
-  {
-    fs::remove (tmp, ec);
+  if (writer->GetErrorCode () != 0 || !fs::is_regular_file (file.temporaryPath (), ec))
     throw InputError ("cannot write screenshot '" + path + "'");
-  }
-  fs::rename (tmp, path, ec);
-  if (ec)
-    throw InputError ("cannot write screenshot '" + path + "': " + ec.message ());
+  file.commit ();
   messages_ << status_ << "\nscreenshot: " << path << std::endl;
 }
 

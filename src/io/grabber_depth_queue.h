@@ -5,7 +5,7 @@
  */
 #pragma once
 
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/camera/depth_frame.h>
 
 #include <pcl/pcl_config.h> // HAVE_OPENNI2
 

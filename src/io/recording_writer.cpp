@@ -1,14 +1,14 @@
 #include <pcl_texlet/io/recording_writer.h>
 
+#include <pcl_texlet/io/camera_yaml.h>
+#include <pcl_texlet/io/png_image.h>
+
 #include <pcl/exceptions.h>
 
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -33,34 +33,15 @@ RecordingFolderWriter::RecordingFolderWriter (const std::string &folder, const C
   const fs::path parent = target.parent_path ();
   if (!fs::is_directory (parent, ec))
     throw pcl::IOException (what + "the folder that should hold it, '" + parent.string () + "', does not exist");
-  // Hidden and unique per process, beside the destination so that the rename stays on one file system.
-  const fs::path tmp = parent / ("." + target.filename ().string () + ".tmp-" + std::to_string (::getpid ()));
-  fs::remove_all (tmp, ec);
+  tmp_.emplace (target.string ());
+  const fs::path tmp (tmp_->temporaryPath ());
+  fs::remove_all (tmp, ec); // a leftover of an earlier process with this id
   if (!fs::create_directory (tmp, ec) || !fs::create_directory (tmp / "depth", ec))
-  {
-    fs::remove_all (tmp, ec);
     throw pcl::IOException (what + "cannot create the temporary folder '" + tmp.string () + "': " + ec.message ());
-  }
-  tmp_ = tmp.string ();
-  try
-  {
-    saveCameraInfoYaml ((tmp / "camera.yaml").string (), info_);
-  }
-  catch (...)
-  {
-    fs::remove_all (tmp, ec);
-    throw;
-  }
+  saveCameraInfoYaml ((tmp / "camera.yaml").string (), info_);
 }
 
-RecordingFolderWriter::~RecordingFolderWriter ()
-{
-  if (!committed_)
-  {
-    std::error_code ec;
-    fs::remove_all (tmp_, ec);
-  }
-}
+RecordingFolderWriter::~RecordingFolderWriter () = default;
 
 void
 RecordingFolderWriter::writeFrame (const DepthFrame &frame) const
@@ -78,13 +59,13 @@ RecordingFolderWriter::writeFrame (const DepthFrame &frame) const
   if (!frame.rgb.empty () && frame.rgb.size () != 3 * frame.depth_mm.size ())
     throw pcl::BadArgumentException (what + "its RGB buffers do not match its size (" + std::to_string (frame.rgb.size ()) +
                                      " bytes for " + std::to_string (frame.width) + "x" + std::to_string (frame.height) + ")");
-  writeDepthPng ((fs::path (tmp_) / "depth" / (frame.name + ".png")).string (), frame.depth_mm.data (), frame.width,
+  writeDepthPng ((fs::path (tmp_->temporaryPath ()) / "depth" / (frame.name + ".png")).string (), frame.depth_mm.data (), frame.width,
                  frame.height);
   if (!frame.rgb.empty ())
   {
     std::error_code ec;
-    fs::create_directories (fs::path (tmp_) / "rgb", ec); // safe when several threads race to make it
-    writeRgbPng ((fs::path (tmp_) / "rgb" / (frame.name + ".png")).string (), frame.rgb.data (), frame.width,
+    fs::create_directories (fs::path (tmp_->temporaryPath ()) / "rgb", ec); // safe when several threads race to make it
+    writeRgbPng ((fs::path (tmp_->temporaryPath ()) / "rgb" / (frame.name + ".png")).string (), frame.rgb.data (), frame.width,
                  frame.height);
   }
 }
@@ -92,7 +73,7 @@ RecordingFolderWriter::writeFrame (const DepthFrame &frame) const
 void
 RecordingFolderWriter::writeMeta (const std::string &yaml) const
 {
-  const std::string path = (fs::path (tmp_) / "meta.yaml").string ();
+  const std::string path = (fs::path (tmp_->temporaryPath ()) / "meta.yaml").string ();
   std::ofstream file (path, std::ios::binary);
   if (!file)
     throw pcl::IOException ("meta.yaml '" + path + "': cannot create: " + std::strerror (errno));
@@ -108,13 +89,11 @@ RecordingFolderWriter::commit ()
   if (committed_)
     return;
   std::error_code ec;
-  const fs::path target = fs::absolute (folder_, ec);
+  const fs::path target (tmp_->path ());
   // rename(2) onto an existing empty folder would succeed; someone may have made one meanwhile.
   if (fs::exists (target, ec))
     throw pcl::IOException ("recording folder '" + folder_ + "': appeared while writing; not replaced");
-  if (std::rename (tmp_.c_str (), target.c_str ()) != 0)
-    throw pcl::IOException ("recording folder '" + folder_ + "': cannot rename '" + tmp_ + "' onto it: " +
-                            std::strerror (errno));
+  tmp_->commit ();
   committed_ = true;
 }
 

@@ -1,6 +1,6 @@
 #include "frame_source.h"
 
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/open_recording.h>
 #include <pcl_texlet/simulation/simulation_config.h>
 
 #include <pcl/exceptions.h>

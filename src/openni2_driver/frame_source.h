@@ -17,7 +17,8 @@
  */
 #pragma once
 
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/camera/camera_info.h>
+#include <pcl_texlet/camera/depth_frame.h>
 #include <pcl_texlet/simulation/kinect_simulator.h>
 #include <pcl_texlet/simulation/scene_setup.h>
 

@@ -145,7 +145,7 @@ saveExtrinsicsYaml (const std::string &path, const std::vector<SensorExtrinsics>
       out << (i ? ", " : "") << (s.pose.matrix () (i / 4, i % 4) + 0.0);
     out << "]\n";
   }
-  detail::writeTextFile (path, out.str ());
+  writeFileAtomically (path, out.str ());
 }
 
 bool

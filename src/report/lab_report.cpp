@@ -1,6 +1,10 @@
 #include <pcl_texlet/report/lab_report.h>
+
+#include <pcl_texlet/common/atomic_file.h>
 #include <pcl_texlet/io/noise_model_io.h>
 #include <pcl_texlet/noise/noise_terms.h>
+#include <pcl_texlet/report/base64.h>
+#include <pcl_texlet/report/gnuplot.h>
 
 #include <pcl/exceptions.h>
 
@@ -8,13 +12,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
 #include <map>
 #include <sstream>
+#include <system_error>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -95,66 +99,12 @@ termsJson (const NoiseModel &model)
 }
 
 std::string
-base64 (const std::string &in)
-{
-  static const char *table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve ((in.size () + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 2 < in.size (); i += 3)
-  {
-    const unsigned v = (unsigned char) in[i] << 16 | (unsigned char) in[i + 1] << 8 | (unsigned char) in[i + 2];
-    out += table[v >> 18 & 63];
-    out += table[v >> 12 & 63];
-    out += table[v >> 6 & 63];
-    out += table[v & 63];
-  }
-  if (i + 1 == in.size ())
-  {
-    const unsigned v = (unsigned char) in[i] << 16;
-    out += table[v >> 18 & 63];
-    out += table[v >> 12 & 63];
-    out += "==";
-  }
-  else if (i + 2 == in.size ())
-  {
-    const unsigned v = (unsigned char) in[i] << 16 | (unsigned char) in[i + 1] << 8;
-    out += table[v >> 18 & 63];
-    out += table[v >> 12 & 63];
-    out += table[v >> 6 & 63];
-    out += '=';
-  }
-  return out;
-}
-
-std::string
 readFile (const std::string &path)
 {
   std::ifstream in (path, std::ios::binary);
   std::stringstream s;
   s << in.rdbuf ();
   return s.str ();
-}
-
-/** Writes \a text to \a path through a temporary file renamed when complete. */
-void
-writeFileAtomic (const std::string &path, const std::string &text)
-{
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out (tmp, std::ios::binary);
-    out << text;
-    if (!out)
-    {
-      std::remove (tmp.c_str ());
-      throw pcl::IOException ("lab report: cannot write '" + path + "'");
-    }
-  }
-  if (std::rename (tmp.c_str (), path.c_str ()) != 0)
-  {
-    std::remove (tmp.c_str ());
-    throw pcl::IOException ("lab report: cannot rename '" + tmp + "' to '" + path + "'");
-  }
 }
 
 std::string
@@ -193,13 +143,14 @@ baseName (const std::string &path)
   return k == std::string::npos ? p : p.substr (k + 1);
 }
 
-/** Runs gnuplot on \a script; the PNG it writes is renamed into place by the caller. */
+/** Runs gnuplot on \a script, which writes its PNG to \a png's temporary path (set output), and
+  * renames the PNG into place.
+  */
 void
-gnuplot (const std::string &script_path)
+drawPlot (const std::string &script, AtomicFile &png)
 {
-  const std::string cmd = "gnuplot '" + script_path + "' 2>'" + script_path + ".err'";
-  if (std::system (cmd.c_str ()) != 0)
-    throw pcl::IOException ("lab report: gnuplot failed on '" + script_path + "': " + readFile (script_path + ".err"));
+  runGnuplot (script, script + ".log");
+  png.commit ();
 }
 
 /** Per-pixel measured and predicted SD and mean of recording r under a model. */
@@ -398,11 +349,6 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     lab.predict (s.start, r, first[r].sd_pred, first[r].mean_pred);
     lab.predict (s.final_model, r, last[r].sd_pred, last[r].mean_pred);
   }
-  std::vector<std::string> pngs;
-  auto png = [&] (const std::string &name) {
-    pngs.push_back (name);
-    return folder + "/" + name;
-  };
 
   // --- staircase: the error after each added effect
   {
@@ -414,7 +360,8 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
         << s.steps[k].metrics.nll << " +" << s.steps[k].added << "\n";
     d.close ();
     std::ofstream g (work + "/staircase.gp");
-    const std::string out = png ("staircase.png") + ".tmp";
+    AtomicFile png (folder + "/staircase.png");
+    const std::string &out = png.temporaryPath ();
     g << "set terminal pngcairo size 820,460 font 'Sans,10'\nset output '" << out << "'\n"
       << "set title 'Watch the error fall: the model after each added effect (all data, refitted)'\n"
       << "set ylabel 'RMS error (mm)'\nset y2label 'NLL per depth sample (nats)'\nset ytics nomirror\nset y2tics\n"
@@ -425,8 +372,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
       << "'' using 1:3 with histeps lw 3 title 'bias\\_rmse\\_mm', '' using 1:3 with points pt 7 notitle, "
       << "'' using 1:4 axes x1y2 with histeps lw 2 dt 2 title 'nll (right axis)'\n";
     g.close ();
-    gnuplot (work + "/staircase.gp");
-    std::rename (out.c_str (), (folder + "/staircase.png").c_str ());
+    drawPlot (work + "/staircase.gp", png);
   }
 
   // --- maps of the SD ratio and the bias residual, one panel per recording (up to 6)
@@ -496,7 +442,8 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     {
       const std::string kind = which ? "bias" : "sd_ratio";
       const std::string name = kind + "_map_" + tag + ".png";
-      const std::string out = png (name) + ".tmp";
+      AtomicFile png (folder + "/" + name);
+      const std::string &out = png.temporaryPath ();
       std::ofstream g (work + "/" + kind + tag + ".gp");
       const int cols = static_cast<int> (std::min<std::size_t> (R, 3)), rows = static_cast<int> ((R + 2) / 3);
       g << "set terminal pngcairo size " << 300 * cols + 60 << "," << 250 * rows + 40 << " font 'Sans,9'\n"
@@ -512,8 +459,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
           << (which ? "bias_" : "ratio_") << tag << r << ".dat' matrix with image notitle\n";
       g << "unset multiplot\n";
       g.close ();
-      gnuplot (work + "/" + kind + tag + ".gp");
-      std::rename (out.c_str (), (folder + "/" + name).c_str ());
+      drawPlot (work + "/" + kind + tag + ".gp", png);
     }
   };
   maps (first, "start", "Starting model");
@@ -536,7 +482,8 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
   for (int which = 0; which < 2; ++which)
   {
     const std::string name = which ? "bias_vs_covariates.png" : "sd_ratio_vs_covariates.png";
-    const std::string out = png (name) + ".tmp";
+    AtomicFile png (folder + "/" + name);
+    const std::string &out = png.temporaryPath ();
     std::ofstream g (work + "/cov" + std::to_string (which) + ".gp");
     g << "set terminal pngcairo size 1200,820 font 'Sans,9'\nset output '" << out << "'\n"
       << "set multiplot layout 3,3 title '"
@@ -610,13 +557,12 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     }
     g << "unset multiplot\n";
     g.close ();
-    gnuplot (work + "/cov" + std::to_string (which) + ".gp");
-    std::rename (out.c_str (), (folder + "/" + name).c_str ());
+    drawPlot (work + "/cov" + std::to_string (which) + ".gp", png);
   }
 
   // --- model.yaml, report.json
   saveNoiseModelYaml (folder + "/model.yaml", s.final_model);
-  writeFileAtomic (folder + "/report.json", labReportJson (s));
+  writeFileAtomically (folder + "/report.json", labReportJson (s));
 
   // --- report.html
   std::ostringstream h;
@@ -713,10 +659,11 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
   h << "<h2>6. The fitted model (model.yaml)</h2>\n<p>Load it with <code>pcl_texlet_extract --noise-model "
        "model.yaml</code> or <code>pcl::texlet::loadNoiseModelYaml</code>.</p><pre>"
     << escape (noiseModelToYaml (s.final_model)) << "</pre>\n</body></html>\n";
-  writeFileAtomic (folder + "/report.html", h.str ());
+  writeFileAtomically (folder + "/report.html", h.str ());
   // The plot scripts and data are not part of the report.
-  const std::string clean = "rm -rf '" + work + "'";
-  if (std::system (clean.c_str ()) != 0)
+  std::error_code ec;
+  std::filesystem::remove_all (work, ec);
+  if (ec)
     say (lab, "lab: could not remove " + work);
 }
 

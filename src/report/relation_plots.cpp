@@ -1,15 +1,16 @@
 #include <pcl_texlet/report/relation_plots.h>
 
 #include <pcl_texlet/common/atomic_file.h>
+#include <pcl_texlet/report/gnuplot.h>
 
 #include <pcl/exceptions.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <system_error>
 
 #include <unistd.h>
 
@@ -22,15 +23,6 @@ namespace texlet
 
 namespace
 {
-
-std::string
-quoted (const std::string &s)
-{
-  std::string out = "'";
-  for (char c : s)
-    out += c == '\'' ? std::string ("'\\''") : std::string (1, c);
-  return out + "'";
-}
 
 /** gnuplot's string syntax (double quotes, escaped). */
 std::string
@@ -69,39 +61,27 @@ private:
   fs::path path_;
 };
 
-/** Runs \a script (which must `set output` to \a tmp_png) and renames the result onto \a png. */
+/** Runs \a script, which must `set output` to \a png's temporary path, and renames the PNG it
+  * drew onto \a png's path.
+  */
 void
-runGnuplot (const ScratchFolder &scratch, const std::string &script, const std::string &tmp_png, const std::string &png)
+drawPng (const ScratchFolder &scratch, const std::string &script, AtomicFile &png)
 {
-  const std::string script_file = scratch.file ("plot.gp"), err_file = scratch.file ("gnuplot.err");
+  const std::string script_file = scratch.file ("plot.gp");
   {
     std::ofstream out (script_file);
     out << script;
     if (!out)
       throw pcl::IOException ("cannot write a gnuplot script to '" + script_file + "'");
   }
-  const int rc = std::system (("gnuplot " + quoted (script_file) + " > " + quoted (err_file) + " 2>&1").c_str ());
-  if (rc != 0 || !fs::is_regular_file (tmp_png) || fs::file_size (tmp_png) == 0)
-  {
-    std::ifstream err (err_file);
-    std::string line, last;
-    while (std::getline (err, line))
-      if (!line.empty ())
-        last = line;
-    std::error_code ec;
-    fs::remove (tmp_png, ec);
-    throw pcl::IOException ("gnuplot could not draw '" + png + "'" + (last.empty () ? "" : ": " + last));
-  }
-  detail::commitTemporary (tmp_png, png);
+  runGnuplot (script_file, scratch.file ("gnuplot.log"));
+  std::error_code ec;
+  if (!fs::is_regular_file (png.temporaryPath (), ec) || fs::file_size (png.temporaryPath (), ec) == 0)
+    throw pcl::IOException ("gnuplot drew no image for '" + png.path () + "' (script '" + script_file + "')");
+  png.commit ();
 }
 
 } // namespace
-
-bool
-gnuplotAvailable ()
-{
-  return std::system ("echo 'set terminal pngcairo' | gnuplot > /dev/null 2>&1") == 0;
-}
 
 void
 writeRelationHistogramPng (const RelationStatistics &stats, const std::string &png, const std::string &title)
@@ -128,10 +108,10 @@ writeRelationHistogramPng (const RelationStatistics &stats, const std::string &p
     if (!out)
       throw pcl::IOException ("cannot write the histogram data to '" + data + "'");
   }
-  const std::string tmp = detail::temporaryPathFor (png);
+  AtomicFile file (png);
   std::ostringstream gp;
   gp << "set terminal pngcairo size 900,660 enhanced font 'Sans,11'\n"
-     << "set output " << gpString (tmp) << "\n"
+     << "set output " << gpString (file.temporaryPath ()) << "\n"
      << "set title " << gpString (title) << "\n"
      << "set xlabel 'normal distance n_{ij} (mm)'\nset ylabel 'angle between normals {/Symbol q} (degrees)'\n"
      << "set cblabel 'log_{10} (relations per bin)'\n"
@@ -156,7 +136,7 @@ writeRelationHistogramPng (const RelationStatistics &stats, const std::string &p
     return s.str ();
   }()) << " at screen 0.5, screen 0.035 center front tc rgb '#000000'\n";
   gp << "plot " << gpString (data) << " using 1:2:($3 > 0 ? log10($3) : NaN) with image\n";
-  runGnuplot (scratch, gp.str (), tmp, png);
+  drawPng (scratch, gp.str (), file);
 }
 
 void
@@ -181,15 +161,15 @@ writeInlierCurvesPng (const std::vector<InlierCurve> &curves, const std::string 
     plot << (c ? ", " : "plot ") << gpString (data) << " using 1:2 with linespoints lw 2 pt 7 title "
          << gpString (curve.label);
   }
-  const std::string tmp = detail::temporaryPathFor (png);
+  AtomicFile file (png);
   std::ostringstream gp;
   gp << "set terminal pngcairo size 800,560 enhanced font 'Sans,11'\n"
-     << "set output " << gpString (tmp) << "\n"
+     << "set output " << gpString (file.temporaryPath ()) << "\n"
      << "set title " << gpString (title) << "\n"
      << "set xlabel 'neighbourhood radius (pixels)'\nset ylabel " << gpString (y_label) << "\n"
      << "set grid\nset key bottom right box\nset yrange [0:*]\n"
      << plot.str () << "\n";
-  runGnuplot (scratch, gp.str (), tmp, png);
+  drawPng (scratch, gp.str (), file);
 }
 
 } // namespace texlet

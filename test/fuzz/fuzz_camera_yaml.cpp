@@ -6,7 +6,7 @@
 #include "fuzz_input_file.h"
 
 #include <pcl_texlet/camera/pinhole_model.h>
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/camera_yaml.h>
 #include <pcl/exceptions.h>
 
 extern "C" int

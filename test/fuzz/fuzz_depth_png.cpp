@@ -10,7 +10,9 @@
  */
 #include "fuzz_input_file.h"
 
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/camera_yaml.h>
+#include <pcl_texlet/io/png_image.h>
+#include <pcl_texlet/io/recording_folder_reader.h>
 #include <pcl/exceptions.h>
 
 #include <cstdlib>

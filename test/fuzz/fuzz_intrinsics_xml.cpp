@@ -5,7 +5,7 @@
 #include "fuzz_input_file.h"
 
 #include <pcl_texlet/camera/pinhole_model.h>
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/grabber_intrinsics.h>
 #include <pcl/exceptions.h>
 
 extern "C" int

@@ -19,6 +19,9 @@ namespace pcl
 namespace texlet
 {
 
+/** \brief OpenNI's field-of-view back-projection (above): the camera model of an OpenNI grabber's
+  * point clouds, with its flaws.
+  */
 class OpenNIFovModel : public CameraModel
 {
 public:
@@ -41,15 +44,21 @@ public:
   static OpenNIFovModel
   kinectRgb (int width = 640, int height = 480);
 
+  /** \brief "openni_fov". */
   std::string
   name () const override { return "openni_fov"; }
 
+  /** \brief The paper's Eq. 1 to 3: x = 2 (u / r_x - 0.5) tan (hFOV / 2), likewise y (y down). */
   void
   pixelToRay (double u, double v, double &x, double &y) const override;
 
+  /** \brief The inverse of pixelToRay: u = r_x (0.5 + X / (2 Z tan (hFOV / 2))), likewise v. */
   void
   project (double X, double Y, double Z, double &u, double &v) const override;
 
+  /** \brief Distance from the image centre (r_x / 2, r_y / 2), where this model puts the
+    * principal point.
+    */
   double
   principalPointDistance (double u, double v) const override;
 

@@ -15,6 +15,7 @@ namespace pcl
 namespace texlet
 {
 
+/** \brief Calibrated pinhole camera with plumb_bob distortion (camera.yaml's K and D). */
 class PinholeModel : public CameraModel
 {
 public:
@@ -32,6 +33,7 @@ public:
   static PinholeModel
   fromCameraInfo (const CameraInfo &info);
 
+  /** \brief "pinhole". */
   std::string
   name () const override { return "pinhole"; }
 
@@ -41,9 +43,11 @@ public:
   void
   pixelToRay (double u, double v, double &x, double &y) const override;
 
+  /** \brief Distorts the normalised point (X / Z, Y / Z) (plumb_bob) and applies fx, fy, cx, cy. */
   void
   project (double X, double Y, double Z, double &u, double &v) const override;
 
+  /** \brief Distance from the calibrated principal point (cx, cy). */
   double
   principalPointDistance (double u, double v) const override;
 

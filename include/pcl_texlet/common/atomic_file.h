@@ -1,6 +1,7 @@
 /*
- * Internal: whole files written under a temporary name beside the destination and renamed when
- * complete, so that no half-written file is ever left under the final name.
+ * pcl_texlet common: files (and whole folders) written under a temporary name beside their
+ * destination and renamed onto it once complete, so that no reader ever finds a half-written one
+ * under the final name, and a failed or interrupted write leaves nothing behind.
  */
 #pragma once
 
@@ -9,10 +10,10 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <system_error>
-#include <filesystem>
 
 #include <unistd.h>
 
@@ -20,10 +21,12 @@ namespace pcl
 {
 namespace texlet
 {
-namespace detail
-{
 
-/** \brief "<dir>/.<name>.<pid>.tmp<ext>": hidden, unique per process, same file system. */
+/** \brief The name \a path is written under until it is complete: "<dir>/.<stem>.<pid>.tmp<ext>".
+  * Hidden; unique per process; in the destination's folder, so that the rename stays on one file
+  * system; and ending in \a path's extension, for writers that go by it (OpenNI2 plays and counts
+  * only files named *.oni).
+  */
 inline std::string
 temporaryPathFor (const std::string &path)
 {
@@ -33,38 +36,69 @@ temporaryPathFor (const std::string &path)
       .string ();
 }
 
-/** \brief Renames \a tmp onto \a path. \throws pcl::IOException (the temporary is removed). */
-inline void
-commitTemporary (const std::string &tmp, const std::string &path)
+/** \brief The temporary of one file or folder being written: temporaryPath () is where the writer
+  * writes, commit () renames it onto path (). Until then the destructor removes it (with all it
+  * holds), so that an exception on the way leaves no partial output.
+  */
+class AtomicFile
 {
-  if (std::rename (tmp.c_str (), path.c_str ()) != 0)
-  {
-    const std::string why = std::strerror (errno);
-    std::error_code ec;
-    std::filesystem::remove (tmp, ec);
-    throw pcl::IOException ("cannot rename '" + tmp + "' onto '" + path + "': " + why);
-  }
-}
+public:
+  explicit AtomicFile (const std::string &path) : path_ (path), tmp_ (temporaryPathFor (path)) {}
 
-/** \brief Writes \a text to \a path through a temporary file. \throws pcl::IOException. */
-inline void
-writeTextFile (const std::string &path, const std::string &text)
-{
-  const std::string tmp = temporaryPathFor (path);
+  AtomicFile (const AtomicFile &) = delete;
+  AtomicFile &
+  operator= (const AtomicFile &) = delete;
+
+  ~AtomicFile ()
   {
-    std::ofstream out (tmp, std::ios::binary);
-    out << text;
-    out.close ();
-    if (!out)
+    if (!committed_)
     {
       std::error_code ec;
-      std::filesystem::remove (tmp, ec);
-      throw pcl::IOException ("cannot write '" + path + "'");
+      std::filesystem::remove_all (tmp_, ec);
     }
   }
-  commitTemporary (tmp, path);
+
+  /** \brief The destination. */
+  const std::string &
+  path () const { return path_; }
+
+  /** \brief Where the writer writes. */
+  const std::string &
+  temporaryPath () const { return tmp_; }
+
+  /** \brief Renames the complete temporary onto path () (replacing a file there).
+    * \throws pcl::IOException naming both; the temporary is then removed by the destructor.
+    */
+  void
+  commit ()
+  {
+    if (std::rename (tmp_.c_str (), path_.c_str ()) != 0)
+      throw pcl::IOException ("cannot rename '" + tmp_ + "' onto '" + path_ + "': " + std::strerror (errno));
+    committed_ = true;
+  }
+
+private:
+  std::string path_;
+  std::string tmp_;
+  bool committed_ = false;
+};
+
+/** \brief Writes \a bytes to \a path through an AtomicFile.
+  * \throws pcl::IOException naming \a path when it cannot be written or renamed into place.
+  */
+inline void
+writeFileAtomically (const std::string &path, const std::string &bytes)
+{
+  AtomicFile file (path);
+  {
+    std::ofstream out (file.temporaryPath (), std::ios::binary);
+    out << bytes;
+    out.close ();
+    if (!out)
+      throw pcl::IOException ("cannot write '" + path + "'");
+  }
+  file.commit ();
 }
 
-} // namespace detail
 } // namespace texlet
 } // namespace pcl

@@ -1,5 +1,6 @@
 /*
- * pcl_texlet: the policy for a bad frame in the middle of a recording (DESIGN.md section 4).
+ * pcl_texlet io: the policy for a bad frame in the middle of a recording (docs/inputs.md, "Bad
+ * frames in the middle of a recording").
  *
  * Every reader's next () throws pcl::IOException for a frame it cannot read (unreadable,
  * truncated, wrong bit depth, a size differing from the recording's, a frame an .oni file never
@@ -10,7 +11,7 @@
  */
 #pragma once
 
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/recording_reader.h>
 
 #include <cstddef>
 #include <functional>

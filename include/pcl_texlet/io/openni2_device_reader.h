@@ -5,7 +5,7 @@
  */
 #pragma once
 
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/recording_reader.h>
 
 #include <cstddef>
 #include <memory>
@@ -46,9 +46,11 @@ public:
   OpenNI2DeviceReader &
   operator= (const OpenNI2DeviceReader &) = delete;
 
+  /** \brief The frames asked for. */
   std::size_t
   size () const override { return frames_; }
 
+  /** \brief The depth stream's image size and the grabber's intrinsics (above). */
   const CameraInfo &
   cameraInfo () const override { return info_; }
 

@@ -1,15 +1,18 @@
 /*
- * pcl_texlet: writing recording folders (DESIGN.md section 4) so that no reader ever sees half
- * of one.
+ * pcl_texlet io: writing recording folders (the format: docs/inputs.md) so that no reader ever
+ * sees half of one.
  *
- * Everything goes into a hidden temporary folder beside the destination, which is renamed onto
- * the destination by commit (); a writer destroyed before commit removes its temporary folder,
- * so a failed or interrupted run leaves no recording behind.
+ * Everything goes into a hidden temporary folder beside the destination (an AtomicFile), which
+ * is renamed onto the destination by commit (); a writer destroyed before commit removes its
+ * temporary folder, so a failed or interrupted run leaves no recording behind.
  */
 #pragma once
 
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/camera/camera_info.h>
+#include <pcl_texlet/camera/depth_frame.h>
+#include <pcl_texlet/common/atomic_file.h>
 
+#include <optional>
 #include <string>
 
 namespace pcl
@@ -62,12 +65,12 @@ public:
 
   /** \brief Where the files go until commit (). */
   const std::string &
-  temporaryFolder () const { return tmp_; }
+  temporaryFolder () const { return tmp_->temporaryPath (); }
 
 private:
   std::string folder_;
-  std::string tmp_;
   CameraInfo info_;
+  std::optional<AtomicFile> tmp_; ///< set once the destination is known to be free
   bool committed_ = false;
 };
 

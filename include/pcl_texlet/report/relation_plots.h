@@ -6,6 +6,7 @@
 #pragma once
 
 #include <pcl_texlet/relations/texlet_relations.h>
+#include <pcl_texlet/report/gnuplot.h> // gnuplotAvailable
 
 #include <string>
 #include <vector>
@@ -14,10 +15,6 @@ namespace pcl
 {
 namespace texlet
 {
-
-/** \brief Whether `gnuplot` with the pngcairo terminal can be run. */
-bool
-gnuplotAvailable ();
 
 /** \brief Heat map of \a stats' histogram: normal distance (mm) across, angle (degrees) up,
   * colour log10 of the count (empty bins white), the expected relations' inlier boxes drawn
