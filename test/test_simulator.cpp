@@ -9,6 +9,7 @@
 #include <pcl_texlet/kernels/structured_light.h>
 #include <pcl_texlet/io/recording.h>
 #include <pcl_texlet/io/recording_writer.h>
+#include <pcl_texlet/noise/noise_terms.h>
 #include <pcl_texlet/simulation/kinect_simulator.h>
 #include <pcl_texlet/simulation/scene_setup.h>
 #include <pcl_texlet/simulation/simulated_recording.h>
@@ -189,6 +190,46 @@ TEST (Simulator, BaseNoiseMatchesThePaperPolynomialOnAFrontalWall)
     }
     signature (line.str ());
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// A base noise model with effect terms
+
+TEST (Simulator, BaseNoiseModelSeesTheSensorsFocalBaselineAndIncidence)
+{
+  // A base model of a constant disparity SD and incidence growth: the simulator must evaluate it
+  // with the sensor's own f b (QVGA: half the default 580 px x 7.5 cm) and each pixel's angle,
+  // so that 0.05 px of disparity SD comes back as 0.05 px times the incidence factor.
+  SimulationSettings s = settingsWith (true);
+  s.noise_model = NoiseModel ();
+  s.noise_model.setMinSigmaMm (1e-6);
+  s.noise_model.add (AxialQuadraticTerm (0.05));
+  const DepthSensor qvga = DepthSensor::kinect (320, 240);
+  ASSERT_NE (qvga.fb (), PixelContext ().fb_px_m);
+  {
+    const KinectSimulator sim = simulator (planeSetup (1.5, 0, 0), s, qvga);
+    const SensorTruth &t = sim.truth (0);
+    std::size_t checked = 0;
+    for (std::size_t i = 0; i < t.sigma_px.size (); ++i)
+      if (t.disparity_px[i] > 0)
+      {
+        EXPECT_NEAR (t.sigma_px[i], 0.05, 1e-6) << "pixel " << i;
+        ++checked;
+      }
+    EXPECT_GT (checked, t.sigma_px.size () / 2);
+  }
+  s.noise_model.add (IncidenceAngleTerm (0.5));
+  const KinectSimulator sim = simulator (planeSetup (1.5, 0, 40), s, qvga);
+  const SensorTruth &t = sim.truth (0);
+  std::size_t checked = 0;
+  for (std::size_t i = 0; i < t.sigma_px.size (); ++i)
+    if (t.disparity_px[i] > 0)
+    {
+      const double factor = 1.0 + 0.5 * (1.0 / t.cos_incidence[i] - 1.0);
+      EXPECT_NEAR (t.sigma_px[i] / (0.05 * factor), 1.0, 1e-5) << "pixel " << i;
+      ++checked;
+    }
+  EXPECT_GT (checked, t.sigma_px.size () / 2);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -132,16 +132,11 @@ inHalfPixel (Half half, bool split_frames, int u, int v)
 PixelContext
 pixelContext (const RecordingMeasurement &m, std::size_t i)
 {
-  PixelContext c;
-  c.u = static_cast<double> (i % m.width);
-  c.v = static_cast<double> (i / m.width);
-  c.radius_px = m.radius (c.u, c.v);
-  c.depth_mm = m.surface_mm[i];
+  PixelContext c = m.noiseContexts ().at (static_cast<double> (i % m.width), static_cast<double> (i / m.width),
+                                          m.surface_mm[i]);
   c.true_depth_mm = m.surface_mm[i];
   c.cos_incidence = m.cos_incidence[i];
-  c.active_projectors = m.active_projectors;
   c.edge_distance_px = std::min (m.edge_distance_px[i], 1e3f);
-  c.fb_px_m = m.fb ();
   return c;
 }
 

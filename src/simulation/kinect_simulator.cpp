@@ -2,6 +2,7 @@
 #include <pcl_texlet/kernels/depth_sensor.h>
 #include <pcl_texlet/kernels/sensor_effects.h>
 #include <pcl_texlet/kernels/structured_light.h>
+#include <pcl_texlet/noise/pixel_context.h>
 
 #include <pcl_texlet/common/error_text.h>
 
@@ -141,6 +142,9 @@ KinectSimulator::prepare (std::size_t index)
   const double r_corner = std::sqrt (std::pow (std::max (s.cx, s.width - 1 - s.cx), 2) +
                                      std::pow (std::max (s.cy, s.height - 1 - s.cy), 2));
   const bool interference = fx.interference.enabled;
+  // The base noise sees the sensor's own f b and projectors, and each pixel's incidence angle.
+  PixelContextBuilder contexts (s.cx, s.cy, fb);
+  contexts.setActiveProjectors (activeProjectors ());
 
   parallelFor (s.height, numberOfThreads (), true, [&] (int v) {
     for (int u = 0; u < s.width; ++u)
@@ -197,11 +201,8 @@ KinectSimulator::prepare (std::size_t index)
       double base = 0.0;
       if (settings_.base_noise)
       {
-        PixelContext ctx;
-        ctx.u = u;
-        ctx.v = v;
-        ctx.radius_px = r_px;
-        ctx.depth_mm = 1000.0 * z;
+        PixelContext ctx = contexts.at (u, v, r_px, 1000.0 * z);
+        ctx.cos_incidence = cos_view;
         base = kernels::disparitySigmaFromDepthSigma (1e-3 * settings_.noise_model.sigmaMm (ctx), z, fb);
       }
       const double axial = fx.axial_quadratic.enabled ? fx.axial_quadratic.sigma_px : 0.0;

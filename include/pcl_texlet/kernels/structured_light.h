@@ -21,6 +21,15 @@ namespace texlet
 namespace kernels
 {
 
+/** \brief The product f b that triangulation divides by: focal length \a fx_px (pixels) times
+  * baseline \a baseline_m (metres). Every f b of the project comes from here.
+  */
+PCL_TEXLET_HD constexpr double
+focalBaseline (double fx_px, double baseline_m)
+{
+  return fx_px * baseline_m;
+}
+
 /** \brief Disparity in pixels of depth \a z_m (metres): f b / z. \a fb = f (px) * b (m). */
 PCL_TEXLET_HD double
 disparityFromDepth (double z_m, double fb)

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <pcl_texlet/kernels/noise_terms.h>
+#include <pcl_texlet/noise/pixel_context.h>
 
 #include <limits>
 #include <memory>
@@ -19,23 +20,6 @@ namespace pcl
 {
 namespace texlet
 {
-
-/** \brief Where a depth sample was taken: pixel, distance from the principal point, depth. */
-struct PixelContext
-{
-  double u = 0.0;         ///< column, pixels
-  double v = 0.0;         ///< row, pixels
-  double radius_px = 0.0; ///< distance from the principal point, pixels
-  double depth_mm = 0.0;  ///< measured depth, millimetres
-  // Covariates of the effect terms (DESIGN.md section 5). The defaults describe what is known
-  // from a single frame, where terms fall back to their steady, phase-averaged form.
-  double cos_incidence = 1.0;      ///< cosine of the angle between surface normal and viewing ray
-  double active_projectors = 1.0;  ///< projectors lighting the scene, the sensor's own included
-  double frame = std::numeric_limits<double>::quiet_NaN ();         ///< frame index since power-on; NaN: steady state
-  double true_depth_mm = std::numeric_limits<double>::quiet_NaN (); ///< noise-free depth where known (the lab); NaN: unknown
-  double edge_distance_px = std::numeric_limits<double>::infinity (); ///< distance to the nearest depth edge, pixels
-  double fb_px_m = 580.0 * 0.075;  ///< focal length (px) times baseline (m): disparity = fb / z
-};
 
 /** \brief What a model predicts for one depth sample: bias and the parts of its variance. */
 struct NoiseMoments
