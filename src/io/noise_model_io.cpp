@@ -156,15 +156,14 @@ parseNoiseModelYaml (const std::string &yaml, const std::string &source)
     }
     if (t["settings"])
     {
-      auto effect = std::dynamic_pointer_cast<EffectTerm> (term);
-      if (!effect || !t["settings"].IsMap ())
+      if (!t["settings"].IsMap ())
         fail (source, "term '" + name + "': 'settings' must be a map of the term's settings");
       for (const auto &kv : t["settings"])
       {
         const std::string key = scalarText (kv.first, source, "a key of term '" + name + "'");
         try
         {
-          effect->setSetting (key, finiteValue (kv.second, source, "term '" + name + "' setting " + key));
+          term->setSetting (key, finiteValue (kv.second, source, "term '" + name + "' setting " + key));
         }
         catch (const pcl::BadArgumentException &e)
         {
