@@ -8,6 +8,8 @@
  *   bench_lab --benchmark_filter=Lab
  */
 #include <pcl_texlet/lab/model_lab.h>
+#include <pcl_texlet/noise/effects/disparity_quantization.h>
+#include <pcl_texlet/noise/effects/incidence_angle.h>
 #include <pcl_texlet/simulation/kinect_simulator.h>
 #include <pcl_texlet/simulation/scene_setup.h>
 #include <pcl_texlet/simulation/simulated_recording.h>
@@ -37,8 +39,8 @@ writeWalls (const fs::path &dir)
     const sim::SceneSetup setup = sim::planeSetup (distances[k], 5, tilts[k]);
     sim::SimulationSettings s;
     s.seed = 100 + k;
-    sim::setEffectEnabled (s.effects, "disparity_quantization", true);
-    sim::setEffectEnabled (s.effects, "incidence_angle", true);
+    sim::setEffectEnabled (s.effects, effects::DisparityQuantization::kName, true);
+    sim::setEffectEnabled (s.effects, effects::IncidenceAngle::kName, true);
     sim::KinectSimulator simulator (setup.scene, setup.sensors (sim::DepthSensor::kinect (640, 480)), s);
     const std::string path = (dir / ("wall_" + std::to_string (k))).string ();
     sim::writeSimulatedRecording (simulator, setup, 0, 0, 30, path);

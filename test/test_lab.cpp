@@ -66,7 +66,7 @@ simulatePlanes (const std::string &effect, std::uint32_t seed, int stripe_period
       first_frame = 1000 * k;
     }
     if (effect == "vertical_stripes" && stripe_period > 0)
-      settings.effects.vertical_stripes.period_frames = stripe_period;
+      sim::setEffectParameter (settings.effects, "vertical_stripes", "period_frames", stripe_period);
     sim::KinectSimulator simulator (setup.scene, setup.sensors (sim::DepthSensor::kinect (W, H)), settings);
     const auto frames = simulator.simulate (0, first_frame, 30);
     std::ostringstream meta;

@@ -13,7 +13,8 @@
 
 #include <gtest/gtest.h>
 
-#include <pcl_texlet/kernels/effect_terms.h>
+#include <pcl_texlet/noise/effect_adapter.h>
+#include <pcl_texlet/noise/effects/incidence_angle.h>
 #include <pcl_texlet/camera/pinhole_model.h>
 #include <pcl_texlet/features/texlet_estimation.h>
 
@@ -52,7 +53,7 @@ simulatePlanes (const std::string &effect, std::uint32_t seed)
     if (!effect.empty ())
       sim::setEffectEnabled (settings.effects, effect, true);
     if (effect == "vertical_stripes")
-      settings.effects.vertical_stripes.period_frames = 2; // as in test_lab.cpp
+      sim::setEffectParameter (settings.effects, "vertical_stripes", "period_frames", 2); // as in test_lab.cpp
     sim::KinectSimulator simulator (setup.scene, setup.sensors (sim::DepthSensor::kinect (W, H)), settings);
     const auto frames = simulator.simulate (0, 0, 30);
     out.push_back (lab::measureFrames (frames, simulator.cameraInfo (0), "plane_" + std::to_string (k),
@@ -191,7 +192,7 @@ TEST (ModelLabTexlets, TexletCovarianceScalesWithItsOwnIncidenceAngle)
       (*cloud) (u, v).getVector3fMap () = (z * ray).cast<float> ();
     }
   NoiseModel with = NoiseModel::paper ();
-  with.add (IncidenceAngleTerm (0.5));
+  with.add (EffectTermOf<effects::IncidenceAngle> ({0.5}));
   pcl::TexletEstimation<pcl::PointXYZ, pcl::Texlet> estimation;
   estimation.setCameraModel (std::make_shared<PinholeModel> (fx, fx, cx, cy));
   estimation.setInputCloud (cloud);
@@ -209,7 +210,7 @@ TEST (ModelLabTexlets, TexletCovarianceScalesWithItsOwnIncidenceAngle)
       continue;
     const Eigen::Vector3d P = a[k].getVector3fMap ().cast<double> ();
     const double cos_t = std::fabs (n.dot (P)) / P.norm ();
-    const double factor = kernels::incidenceVarianceFactor (0.5, cos_t);
+    const double factor = effects::IncidenceAngle::varianceFactorAt (0.5, cos_t);
     EXPECT_NEAR (b[k].cov_p_zz / a[k].cov_p_zz, factor, 2e-3 * factor) << "texlet " << k;
     EXPECT_NEAR (b[k].cov_n_11 / a[k].cov_n_11, factor, 2e-3 * factor) << "texlet " << k;
     ++checked;

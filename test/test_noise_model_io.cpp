@@ -2,8 +2,17 @@
  * The effect terms of the noise model and its YAML files: closed-form values, round trips,
  * and clear errors for bad files.
  */
-#include <pcl_texlet/kernels/effect_terms.h>
 #include <pcl_texlet/io/noise_model_io.h>
+#include <pcl_texlet/noise/effect_adapter.h>
+#include <pcl_texlet/noise/effects/axial_quadratic.h>
+#include <pcl_texlet/noise/effects/depth_distortion.h>
+#include <pcl_texlet/noise/effects/disparity_quantization.h>
+#include <pcl_texlet/noise/effects/incidence_angle.h>
+#include <pcl_texlet/noise/effects/interference.h>
+#include <pcl_texlet/noise/effects/lateral_noise.h>
+#include <pcl_texlet/noise/effects/radial.h>
+#include <pcl_texlet/noise/effects/temporal_drift.h>
+#include <pcl_texlet/noise/effects/vertical_stripes.h>
 #include <pcl_texlet/noise/noise_terms.h>
 
 #include <pcl/exceptions.h>
@@ -16,6 +25,7 @@
 #include <fstream>
 
 using namespace pcl::texlet;
+using Quantisation = pcl::texlet::effects::DisparityQuantization;
 
 namespace
 {
@@ -34,20 +44,20 @@ NoiseModel
 everyTerm ()
 {
   NoiseModel m = NoiseModel::paper ();
-  m.add (AxialQuadraticTerm (0.03));
-  m.add (RadialTerm (0.4));
-  m.add (IncidenceAngleTerm (0.5));
-  m.add (VerticalStripesTerm (0.1, 5.0));
-  DepthDistortionTerm grid (640, 480, 5, 4);
+  m.add (EffectTermOf<effects::AxialQuadratic> ({0.03}));
+  m.add (EffectTermOf<effects::Radial> ({0.4}));
+  m.add (EffectTermOf<effects::IncidenceAngle> ({0.5}));
+  m.add (EffectTermOf<effects::VerticalStripes> ({0.1, 5.0}));
+  EffectTermOf<effects::DepthDistortion> grid ({}, {640, 480, 5, 4});
   std::vector<double> offsets;
   for (int k = 0; k < 20; ++k)
     offsets.push_back (0.01 * k - 0.1);
   grid.setParameters (offsets);
   m.add (grid);
-  m.add (InterferenceTerm (0.8));
-  m.add (TemporalDriftTerm (0.2, 8.0));
-  m.add (LateralNoiseTerm (2.0, 1.5));
-  m.add (DisparityQuantizationTerm (0.125));
+  m.add (EffectTermOf<effects::Interference> ({0.8}));
+  m.add (EffectTermOf<effects::TemporalDrift> ({0.2, 8.0}));
+  m.add (EffectTermOf<effects::LateralNoise> ({2.0, 1.5}));
+  m.add (EffectTermOf<effects::DisparityQuantization> ({0.125}));
   return m;
 }
 } // namespace
@@ -56,13 +66,13 @@ TEST (EffectTerms, QuantisedMomentsMatchClosedForms)
 {
   double mean = 0, var = 0;
   // No noise: the nearest level; half-way between two levels with tiny noise: half each.
-  pcl::texlet::kernels::quantizedMoments (10.0 + 0.3 * 0.125, 0.0, 0.125, mean, var);
+  Quantisation::moments (10.0 + 0.3 * 0.125, 0.0, 0.125, mean, var);
   EXPECT_NEAR (mean, -0.3 * 0.125, 1e-12);
   EXPECT_EQ (var, 0.0);
-  pcl::texlet::kernels::quantizedMoments (10.0625, 1e-4, 0.125, mean, var);
+  Quantisation::moments (10.0625, 1e-4, 0.125, mean, var);
   EXPECT_NEAR (var, 0.0625 * 0.0625, 1e-6);
   // Much noise: Sheppard's correction, sigma^2 + step^2 / 12, no bias.
-  pcl::texlet::kernels::quantizedMoments (10.01, 0.5, 0.125, mean, var);
+  Quantisation::moments (10.01, 0.5, 0.125, mean, var);
   EXPECT_NEAR (var, 0.25 + 0.125 * 0.125 / 12, 1e-6);
   EXPECT_NEAR (mean, 0.0, 1e-6);
 }
@@ -79,8 +89,8 @@ TEST (EffectTerms, QuantisedMomentsByHarmonicsEqualTheLevelsSummed)
     {
       const double d0 = 37.0 + step * (i / 40.0 - 0.5), sigma = sigma_steps * step;
       double m_levels = 0, v_levels = 0, m_harmonics = 0, v_harmonics = 0;
-      pcl::texlet::kernels::quantizedMomentsByLevels (d0, sigma, step, m_levels, v_levels);
-      pcl::texlet::kernels::quantizedMomentsByHarmonics (d0, sigma, step, m_harmonics, v_harmonics);
+      Quantisation::momentsByLevels (d0, sigma, step, m_levels, v_levels);
+      Quantisation::momentsByHarmonics (d0, sigma, step, m_harmonics, v_harmonics);
       worst_mean = std::max (worst_mean, std::fabs (m_levels - m_harmonics) / step);
       worst_var = std::max (worst_var, std::fabs (v_levels - v_harmonics) / (sigma * sigma));
     }
@@ -92,8 +102,8 @@ TEST (EffectTerms, QuantisedMomentsByHarmonicsEqualTheLevelsSummed)
   // At half a step the bias still swings with the phase (by about 0.7 % of a step) and the SD with
   // it; the dispatcher's switch between the two ways is continuous.
   double m_below = 0, v_below = 0, m_at = 0, v_at = 0;
-  pcl::texlet::kernels::quantizedMoments (37.03, 0.5 * step * (1 - 1e-12), step, m_below, v_below);
-  pcl::texlet::kernels::quantizedMoments (37.03, 0.5 * step, step, m_at, v_at);
+  Quantisation::moments (37.03, 0.5 * step * (1 - 1e-12), step, m_below, v_below);
+  Quantisation::moments (37.03, 0.5 * step, step, m_at, v_at);
   EXPECT_NEAR (m_below, m_at, 1e-12);
   EXPECT_NEAR (v_below, v_at, 1e-12);
   EXPECT_GT (std::fabs (m_at), 1e-4 * step);
@@ -103,11 +113,11 @@ TEST (EffectTerms, QuantisedMomentsByHarmonicsEqualTheLevelsSummed)
   for (const double d0 : {double (INFINITY), -double (INFINITY), double (NAN), 1e300})
   {
     double m = 0, v = 0;
-    pcl::texlet::kernels::quantizedMoments (d0, 0.01, step, m, v);
+    Quantisation::moments (d0, 0.01, step, m, v);
     EXPECT_TRUE (std::isnan (m) && std::isnan (v)) << d0;
   }
   double m = 0, v = 0;
-  pcl::texlet::kernels::quantizedMoments (37.0, INFINITY, step, m, v);
+  Quantisation::moments (37.0, INFINITY, step, m, v);
   EXPECT_EQ (v, INFINITY);
 }
 
@@ -115,8 +125,10 @@ TEST (EffectTerms, MomentsComposeAsTheSimulatorDraws)
 {
   // (polynomial^2 + axial^2) x radial x incidence x interference, stripes outside the factors.
   NoiseModel m = NoiseModel::paper ();
-  m.add (AxialQuadraticTerm (0.03)).add (RadialTerm (0.4)).add (IncidenceAngleTerm (0.5));
-  m.add (InterferenceTerm (0.8)).add (VerticalStripesTerm (0.1, 4.0));
+  m.add (EffectTermOf<effects::AxialQuadratic> ({0.03}))
+      .add (EffectTermOf<effects::Radial> ({0.4}))
+      .add (EffectTermOf<effects::IncidenceAngle> ({0.5}));
+  m.add (EffectTermOf<effects::Interference> ({0.8})).add (EffectTermOf<effects::VerticalStripes> ({0.1, 4.0}));
   PixelContext c = at (500, 400, 2000);
   c.cos_incidence = 0.5;
   c.active_projectors = 3;
@@ -136,11 +148,11 @@ TEST (EffectTerms, DriftAndDistortionAreBiases)
   PixelContext c = at (100, 100, 1500);
   const double J = 1500.0 * 1500.0 / (1000.0 * c.fb_px_m);
   NoiseModel m;
-  m.add (TemporalDriftTerm (0.2, 10.0));
+  m.add (EffectTermOf<effects::TemporalDrift> ({0.2, 10.0}));
   EXPECT_EQ (m.biasMm (c), 0.0); // steady state when the frame is unknown
   c.frame = 10;
   EXPECT_NEAR (m.biasMm (c), -J * 0.2 * std::exp (-1.0), 1e-9);
-  DepthDistortionTerm grid (640, 480, 2, 2);
+  EffectTermOf<effects::DepthDistortion> grid ({}, {640, 480, 2, 2});
   grid.setParameters ({0.1, 0.1, 0.1, 0.1});
   EXPECT_NEAR (grid.bias (c), -J * 0.1, 1e-9);
 }
@@ -159,6 +171,68 @@ TEST (EffectTerms, EveryVocabularyNameMakesANeutralTerm)
   EXPECT_THROW (makeNoiseTerm ("wobble"), pcl::BadArgumentException);
 }
 
+TEST (EffectTerms, TheLabReadsPropertiesNotNames)
+{
+  for (const auto &name : noiseEffectNames ())
+  {
+    const NoiseTerm::Ptr t = makeNoiseTerm (name);
+    EXPECT_EQ (t->quantises (), name == "disparity_quantization") << name;
+    EXPECT_EQ (t->linearBiasSupport () > 0, name == "depth_distortion") << name;
+    EXPECT_EQ (t->frameDependent (), name == "temporal_drift") << name;
+    EXPECT_EQ (effectInfo (name).quantises, t->quantises ()) << name;
+  }
+  EXPECT_EQ (effectInfo ("depth_distortion").lab_needs, unsigned (effects::kNeedsPlaneScene));
+  EXPECT_EQ (effectInfo ("interference").lab_needs, unsigned (effects::kNeedsVariedProjectors));
+  EXPECT_EQ (effectInfo ("vertical_stripes").lab_needs, unsigned (effects::kNeedsFrameSplit));
+  EXPECT_EQ (effectInfo ("lateral_noise").lab_needs, unsigned (effects::kNeedsDepthEdges));
+
+  // The grid's bias basis reproduces its bias: bias = -J sum_k w_k offset_k.
+  EffectTermOf<effects::DepthDistortion> grid ({}, {640, 480, 3, 3});
+  std::vector<double> nodes;
+  for (int k = 0; k < 9; ++k)
+    nodes.push_back (0.01 * k - 0.03);
+  grid.setParameters (nodes);
+  const PixelContext c = at (200.5, 333.25, 1500);
+  ASSERT_EQ (grid.linearBiasSupport (), 4);
+  int index[4];
+  double weight[4];
+  grid.linearBiasBasis (c.u, c.v, index, weight);
+  double offset = 0;
+  for (int k = 0; k < 4; ++k)
+    offset += weight[k] * nodes[index[k]];
+  EXPECT_NEAR (grid.bias (c), -1500.0 * 1500.0 / (1000.0 * c.fb_px_m) * offset, 1e-12);
+
+  // The lab's start values: the recording's step (the sensor's nominal one when unknown), a grid
+  // spanning the recording's image, the typical scale of a parameter.
+  effects::LabStart facts;
+  facts.image_width = 320;
+  facts.image_height = 240;
+  facts.disparity_step_px = 0.25;
+  const NoiseTerm::Ptr q = makeNoiseTerm ("disparity_quantization");
+  q->setLabStart (facts);
+  EXPECT_EQ (q->parameters (), std::vector<double> ({0.25}));
+  facts.disparity_step_px = 0;
+  q->setLabStart (facts);
+  EXPECT_EQ (q->parameters (), std::vector<double> ({0.125}));
+  const NoiseTerm::Ptr g = makeNoiseTerm ("depth_distortion");
+  g->setLabStart (facts);
+  EXPECT_EQ (g->settings ()[0], (std::pair<std::string, double> ("image_width", 320)));
+  EXPECT_EQ (g->settings ()[1], (std::pair<std::string, double> ("image_height", 240)));
+  EXPECT_EQ (g->parameters (), std::vector<double> (17 * 13, 0.0));
+  const NoiseTerm::Ptr a = makeNoiseTerm ("axial_quadratic");
+  a->setLabStart (facts);
+  EXPECT_EQ (a->parameters (), std::vector<double> ({0.02}));
+  EXPECT_EQ (a->typicalScale (0), 0.02);
+  EXPECT_EQ (NoiseModel::paper ().terms ().front ()->typicalScale (3), 1e-12);
+
+  // Settings are checked one by one and as a whole; a refused one changes nothing.
+  EXPECT_THROW (g->setSetting ("nodes_x", 1), pcl::BadArgumentException);
+  EXPECT_THROW (g->setSetting ("nodes_x", 2.5), pcl::BadArgumentException);
+  EXPECT_THROW (g->setSetting ("colour", 2), pcl::BadArgumentException);
+  EXPECT_EQ (g->settings ()[2], (std::pair<std::string, double> ("nodes_x", 17)));
+  EXPECT_THROW (makeNoiseTerm ("radial")->setSetting ("reference_radius_px", 0), pcl::BadArgumentException);
+}
+
 TEST (NoiseModelYaml, RoundTripKeepsEveryTermAndValue)
 {
   const NoiseModel m = everyTerm ();
@@ -168,6 +242,7 @@ TEST (NoiseModelYaml, RoundTripKeepsEveryTermAndValue)
   {
     EXPECT_EQ (back.terms ()[k]->name (), m.terms ()[k]->name ());
     EXPECT_EQ (back.terms ()[k]->parameters (), m.terms ()[k]->parameters ());
+    EXPECT_EQ (back.terms ()[k]->settings (), m.terms ()[k]->settings ());
   }
   PixelContext c = at (123, 77, 1800);
   c.cos_incidence = 0.7;

@@ -5,10 +5,20 @@
  *
  * Lines starting with "[signature]" report the measured figures.
  */
-#include <pcl_texlet/kernels/sensor_effects.h>
 #include <pcl_texlet/kernels/structured_light.h>
 #include <pcl_texlet/io/recording.h>
 #include <pcl_texlet/io/recording_writer.h>
+#include <pcl_texlet/noise/effect_adapter.h>
+#include <pcl_texlet/noise/effects/axial_quadratic.h>
+#include <pcl_texlet/noise/effects/depth_distortion.h>
+#include <pcl_texlet/noise/effects/disparity_quantization.h>
+#include <pcl_texlet/noise/effects/incidence_angle.h>
+#include <pcl_texlet/noise/effects/interference.h>
+#include <pcl_texlet/noise/effects/intrinsics.h>
+#include <pcl_texlet/noise/effects/lateral_noise.h>
+#include <pcl_texlet/noise/effects/radial.h>
+#include <pcl_texlet/noise/effects/temporal_drift.h>
+#include <pcl_texlet/noise/effects/vertical_stripes.h>
 #include <pcl_texlet/simulation/kinect_simulator.h>
 #include <pcl_texlet/simulation/scene_setup.h>
 #include <pcl_texlet/simulation/simulated_recording.h>
@@ -192,13 +202,53 @@ TEST (Simulator, BaseNoiseMatchesThePaperPolynomialOnAFrontalWall)
 }
 
 // ---------------------------------------------------------------------------------------------
+// A base noise model with effect terms
+
+TEST (Simulator, BaseNoiseModelSeesTheSensorsFocalBaselineAndIncidence)
+{
+  // A base model of a constant disparity SD and incidence growth: the simulator must evaluate it
+  // with the sensor's own f b (QVGA: half the default 580 px x 7.5 cm) and each pixel's angle,
+  // so that 0.05 px of disparity SD comes back as 0.05 px times the incidence factor.
+  SimulationSettings s = settingsWith (true);
+  s.noise_model = NoiseModel ();
+  s.noise_model.setMinSigmaMm (1e-6);
+  s.noise_model.add (EffectTermOf<effects::AxialQuadratic> ({0.05}));
+  const DepthSensor qvga = DepthSensor::kinect (320, 240);
+  ASSERT_NE (qvga.fb (), PixelContext ().fb_px_m);
+  {
+    const KinectSimulator sim = simulator (planeSetup (1.5, 0, 0), s, qvga);
+    const SensorTruth &t = sim.truth (0);
+    std::size_t checked = 0;
+    for (std::size_t i = 0; i < t.sigma_px.size (); ++i)
+      if (t.disparity_px[i] > 0)
+      {
+        EXPECT_NEAR (t.sigma_px[i], 0.05, 1e-6) << "pixel " << i;
+        ++checked;
+      }
+    EXPECT_GT (checked, t.sigma_px.size () / 2);
+  }
+  s.noise_model.add (EffectTermOf<effects::IncidenceAngle> ({0.5}));
+  const KinectSimulator sim = simulator (planeSetup (1.5, 0, 40), s, qvga);
+  const SensorTruth &t = sim.truth (0);
+  std::size_t checked = 0;
+  for (std::size_t i = 0; i < t.sigma_px.size (); ++i)
+    if (t.disparity_px[i] > 0)
+    {
+      const double factor = 1.0 + 0.5 * (1.0 / t.cos_incidence[i] - 1.0);
+      EXPECT_NEAR (t.sigma_px[i] / (0.05 * factor), 1.0, 1e-5) << "pixel " << i;
+      ++checked;
+    }
+  EXPECT_GT (checked, t.sigma_px.size () / 2);
+}
+
+// ---------------------------------------------------------------------------------------------
 // axial_quadratic
 
 TEST (Simulator, AxialQuadraticFollowsDepthSquared)
 {
   SimulationSettings on = settingsWith (false);
-  on.effects.axial_quadratic.enabled = true;
-  on.effects.axial_quadratic.sigma_px = 0.05;
+  setEffectEnabled (on.effects, "axial_quadratic", true);
+  setEffectParameter (on.effects, "axial_quadratic", "sigma_px", 0.05);
   std::ostringstream line;
   line << "axial_quadratic (sigma_px 0.05): SD/expected at";
   double sd_per_z2_first = 0;
@@ -233,10 +283,10 @@ TEST (Simulator, AxialQuadraticFollowsDepthSquared)
 TEST (Simulator, RadialRaisesTheSdWithRadius)
 {
   SimulationSettings off = settingsWith (false);
-  off.effects.axial_quadratic.enabled = true;
-  off.effects.axial_quadratic.sigma_px = 0.05;
+  setEffectEnabled (off.effects, "axial_quadratic", true);
+  setEffectParameter (off.effects, "axial_quadratic", "sigma_px", 0.05);
   SimulationSettings on = off;
-  on.effects.radial.enabled = true; // gain 0.5 at 400 px
+  setEffectEnabled (on.effects, "radial", true); // gain 0.5 at 400 px
 
   const auto binnedRatio = [] (const KinectSimulator &sim, bool with_radial) {
     const PixelStats stats (sim.simulate (0, 0, kFrames));
@@ -249,7 +299,7 @@ TEST (Simulator, RadialRaisesTheSdWithRadius)
       {
         const std::size_t i = static_cast<std::size_t> (v) * s.width + u;
         const double r = std::hypot (u - s.cx, v - s.cy);
-        const double factor = with_radial ? kernels::radialFactor (sim.settings ().effects.radial, r) : 1.0;
+        const double factor = with_radial ? effects::Radial::factor (sim.settings ().effects.parameters<effects::Radial> (), r) : 1.0;
         const int bin = static_cast<int> (r / 50);
         measured[bin] += stats.var[i] - kRoundingVariance;
         expected[bin] += base * base * factor * factor;
@@ -313,7 +363,7 @@ latticeShare (const std::vector<DepthFrame> &frames, double fb, double step, std
 TEST (Simulator, DisparityQuantizationPutsDepthsOnTheStepLattice)
 {
   SimulationSettings on = settingsWith (true);
-  on.effects.disparity_quantization.enabled = true;
+  setEffectEnabled (on.effects, "disparity_quantization", true);
   const SceneSetup wall = planeSetup (1.5, 30, 20); // depths from about 1.1 m to 2.5 m
   const KinectSimulator sim_on = simulator (wall, on), sim_off = simulator (wall, settingsWith (true));
   const double fb = sim_on.sensor (0).fb ();
@@ -351,10 +401,10 @@ TEST (Simulator, DisparityQuantizationPutsDepthsOnTheStepLattice)
 TEST (Simulator, IncidenceAngleRaisesTheSdWithTilt)
 {
   SimulationSettings off = settingsWith (false);
-  off.effects.axial_quadratic.enabled = true;
-  off.effects.axial_quadratic.sigma_px = 0.05;
+  setEffectEnabled (off.effects, "axial_quadratic", true);
+  setEffectParameter (off.effects, "axial_quadratic", "sigma_px", 0.05);
   SimulationSettings on = off;
-  on.effects.incidence_angle.enabled = true; // gain 0.5
+  setEffectEnabled (on.effects, "incidence_angle", true); // gain 0.5
 
   std::ostringstream line;
   line << std::setprecision (3) << "incidence_angle (gain 0.5): SD on/off in the central 40x40 px at tilt";
@@ -373,7 +423,7 @@ TEST (Simulator, IncidenceAngleRaisesTheSdWithTilt)
         const std::size_t i = static_cast<std::size_t> (v) * 640 + u;
         var_on += s_on.var[i] - kRoundingVariance;
         var_off += s_off.var[i] - kRoundingVariance;
-        expected += kernels::incidenceFactor (on.effects.incidence_angle, t.cos_incidence[i]);
+        expected += effects::IncidenceAngle::factor (on.effects.parameters<effects::IncidenceAngle> (), t.cos_incidence[i]);
         ++n;
       }
     const double ratio = std::sqrt (var_on / var_off);
@@ -385,7 +435,7 @@ TEST (Simulator, IncidenceAngleRaisesTheSdWithTilt)
   signature (line.str ());
 
   // Beyond max_angle_deg the pattern cannot be matched: no reading.
-  on.effects.incidence_angle.max_angle_deg = 50;
+  setEffectParameter (on.effects, "incidence_angle", "max_angle_deg", 50);
   const DepthFrame steep = simulator (planeSetup (1.5, 0, 60), on).simulateFrame (0, 0);
   EXPECT_EQ (steep.depth_mm[240 * 640 + 320], 0);
   const DepthFrame steep_off = simulator (planeSetup (1.5, 0, 60), off).simulateFrame (0, 0);
@@ -398,7 +448,7 @@ TEST (Simulator, IncidenceAngleRaisesTheSdWithTilt)
 TEST (Simulator, VerticalStripesGiveColumnCorrelatedOffsetsThatChangeOverTime)
 {
   SimulationSettings on = settingsWith (true, 5);
-  on.effects.vertical_stripes.enabled = true; // 6 bands, 1/8 px, 10 frames
+  setEffectEnabled (on.effects, "vertical_stripes", true); // 6 bands, 1/8 px, 10 frames
   const SceneSetup wall = planeSetup (1.5, 0, 0);
 
   const auto measure = [&] (const SimulationSettings &settings, double &along, double &across,
@@ -417,10 +467,10 @@ TEST (Simulator, VerticalStripesGiveColumnCorrelatedOffsetsThatChangeOverTime)
           a2.push_back (residualMm (frames[f], t, (v + 20) * 640 + u));
         }
       // Pairs 5 columns apart straddling each band boundary of this frame's layout.
-      const std::uint32_t epoch = kernels::stripeEpoch (on.effects.vertical_stripes, f);
-      for (int k = 0; k + 1 < on.effects.vertical_stripes.bands; ++k)
+      const std::uint32_t epoch = effects::VerticalStripes::epoch (on.effects.parameters<effects::VerticalStripes> (), f);
+      for (int k = 0; k + 1 < on.effects.parameters<effects::VerticalStripes> ().bands; ++k)
       {
-        const int c = kernels::stripeBoundary (settings.seed, 0, epoch, k, 640);
+        const int c = effects::VerticalStripes::boundary (settings.seed, 0, epoch, k, 640);
         if (c < 3 || c + 2 >= 640)
           continue;
         for (int v = 0; v < 480; ++v)
@@ -468,7 +518,7 @@ TEST (Simulator, VerticalStripesGiveColumnCorrelatedOffsetsThatChangeOverTime)
 TEST (Simulator, DepthDistortionIsAStaticBiasMapGrowingWithDepth)
 {
   SimulationSettings on = settingsWith (true, 3);
-  on.effects.depth_distortion.enabled = true;
+  setEffectEnabled (on.effects, "depth_distortion", true);
 
   const auto biasMap = [&] (const SimulationSettings &settings, double z, int first, int count) {
     const KinectSimulator sim = simulator (planeSetup (z, 0, 0), settings);
@@ -496,7 +546,7 @@ TEST (Simulator, DepthDistortionIsAStaticBiasMapGrowingWithDepth)
   for (int v = 0; v < 480; ++v)
     for (int u = 0; u < 640; ++u)
     {
-      const double delta = kernels::distortionOffset (on.effects.depth_distortion, on.seed, 0, u, v, s.cx, s.cy, r_corner);
+      const double delta = effects::DepthDistortion::offset (on.effects.parameters<effects::DepthDistortion> (), on.seed, 0, u, v, s.cx, s.cy, r_corner);
       const double predicted = 1000.0 * (s.fb () / (s.fb () / 2.0 + delta) - 2.0);
       err2 += std::pow (b2[v * 640 + u] - predicted, 2);
       rms2 += predicted * predicted;
@@ -526,7 +576,7 @@ TEST (Simulator, DepthDistortionIsAStaticBiasMapGrowingWithDepth)
 TEST (Simulator, InterferenceRaisesSdAndDropoutWithTheNumberOfProjectors)
 {
   SimulationSettings on = settingsWith (true, 9);
-  on.effects.interference.enabled = true;
+  setEffectEnabled (on.effects, "interference", true);
   std::ostringstream line;
   line << std::setprecision (3) << "interference (noise_gain 1, dropout_rate 0.1): sensor 0 of a wall at 1.5 m,";
   double previous_sd = 0, previous_dropout = -1;
@@ -549,7 +599,7 @@ TEST (Simulator, InterferenceRaisesSdAndDropoutWithTheNumberOfProjectors)
         var += stats.var[i];
         ++n;
       }
-      expected += kernels::interferenceDropout (on.effects.interference, t.foreign_load[i]);
+      expected += effects::Interference::dropoutAt (on.effects.parameters<effects::Interference> (), t.foreign_load[i]);
       load += t.foreign_load[i];
     }
     const double sd = std::sqrt (var / n), dropout = static_cast<double> (holes) / pixels;
@@ -582,7 +632,7 @@ TEST (Simulator, InterferenceRaisesSdAndDropoutWithTheNumberOfProjectors)
 TEST (Simulator, TemporalDriftGivesATrendInFrameMeans)
 {
   SimulationSettings on = settingsWith (true, 4);
-  on.effects.temporal_drift.enabled = true; // 0.2 px, 10 frames
+  setEffectEnabled (on.effects, "temporal_drift", true); // 0.2 px, 10 frames
   const auto frameMeans = [&] (const SimulationSettings &settings) {
     const KinectSimulator sim = simulator (planeSetup (1.5, 0, 0), settings);
     std::vector<double> means;
@@ -600,7 +650,7 @@ TEST (Simulator, TemporalDriftGivesATrendInFrameMeans)
   std::vector<double> expected, off_abs;
   for (int f = 0; f < kFrames; ++f)
   {
-    const double delta = kernels::driftOffset (on.effects.temporal_drift, f);
+    const double delta = effects::TemporalDrift::frameOffset (on.effects.parameters<effects::TemporalDrift> (), f);
     expected.push_back (1000.0 * (fb / (fb / 1.5 + delta) - 1.5));
     EXPECT_NEAR (m_on[f], expected.back (), 0.1 + 0.02 * std::fabs (expected.back ())) << "frame " << f;
     EXPECT_LT (std::fabs (m_off[f]), 0.05) << "frame " << f;
@@ -621,7 +671,7 @@ TEST (Simulator, TemporalDriftGivesATrendInFrameMeans)
 TEST (Simulator, LateralNoiseRaisesTheErrorOnlyNearDepthEdges)
 {
   SimulationSettings on = settingsWith (true, 6);
-  on.effects.lateral_noise.enabled = true; // 0.8 px
+  setEffectEnabled (on.effects, "lateral_noise", true); // 0.8 px
   const SceneSetup box = boxSetup (1.2, 40, 1);
   const KinectSimulator sim_on = simulator (box, on), sim_off = simulator (box, settingsWith (true, 6));
   const auto f_on = sim_on.simulate (0, 0, kFrames), f_off = sim_off.simulate (0, 0, kFrames);
@@ -692,10 +742,10 @@ TEST (Simulator, LateralNoiseRaisesTheErrorOnlyNearDepthEdges)
 TEST (Simulator, IntrinsicsMisScaleTheLabelledBackProjection)
 {
   SimulationSettings on = settingsWith (false);
-  on.effects.intrinsics.enabled = true;
-  on.effects.intrinsics.focal_scale = 1.1;
-  on.effects.intrinsics.cx_offset_px = 4;
-  on.effects.intrinsics.cy_offset_px = -3;
+  setEffectEnabled (on.effects, "intrinsics", true);
+  setEffectParameter (on.effects, "intrinsics", "focal_scale", 1.1);
+  setEffectParameter (on.effects, "intrinsics", "cx_offset_px", 4);
+  setEffectParameter (on.effects, "intrinsics", "cy_offset_px", -3);
   const SceneSetup wall = planeSetup (1.5, 0, 0);
   const KinectSimulator sim_on = simulator (wall, on), sim_off = simulator (wall, settingsWith (false));
   const DepthSensor &s = sim_on.sensor (0);
@@ -788,9 +838,9 @@ TEST (Simulator, SameSeedSameBytesWhateverTheThreads)
 TEST_F (SimulatorFiles, WrittenRecordingReadsBackAsSimulated)
 {
   SimulationSettings s = settingsWith (true, 7);
-  s.effects.vertical_stripes.enabled = true;
-  s.effects.disparity_quantization.enabled = true;
-  s.effects.intrinsics.enabled = true;
+  setEffectEnabled (s.effects, "vertical_stripes", true);
+  setEffectEnabled (s.effects, "disparity_quantization", true);
+  setEffectEnabled (s.effects, "intrinsics", true);
   const SceneSetup box = boxSetup (1.3, 35, 3);
   const KinectSimulator sim (box.scene, box.sensors (DepthSensor::kinect ()), s);
   const fs::path folder = dir_ / "rec";

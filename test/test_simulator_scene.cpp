@@ -3,6 +3,9 @@
  * PLY and organised PCD files equal to the analytic scenes they describe, the BVH against brute
  * force, effects by name, and YAML configuration with its errors.
  */
+#include <pcl_texlet/noise/effects/interference.h>
+#include <pcl_texlet/noise/effects/radial.h>
+#include <pcl_texlet/noise/effects/vertical_stripes.h>
 #include <pcl_texlet/simulation/effects.h>
 #include <pcl_texlet/simulation/kinect_simulator.h>
 #include <pcl_texlet/simulation/scene_setup.h>
@@ -315,7 +318,9 @@ TEST (SimulatorScene, BadGeometryIsRejected)
   bad.fx = -1;
   expectError<pcl::BadArgumentException> ([&] { KinectSimulator (wall.scene, {bad}, noiseFree ()); }, "sensor 0");
   SimulationSettings s = noiseFree ();
-  s.effects.vertical_stripes.bands = 0;
+  effects::VerticalStripes::SimParameters no_bands;
+  no_bands.bands = 0; // past setEffectParameter's check: the simulator must check it too
+  s.effects.set<effects::VerticalStripes> (no_bands, false);
   expectError<pcl::BadArgumentException> ([&] { KinectSimulator (wall.scene, {DepthSensor::kinect ()}, s); },
                                           "vertical_stripes': parameter bands");
 }
@@ -342,8 +347,8 @@ TEST (SimulatorEffects, CatalogueFollowsTheDesignVocabulary)
   setEffectEnabled (fx, "interference", true);
   setEffectParameter (fx, "interference", "blob_px", 3);
   setEffectParameter (fx, "vertical_stripes", "offset_px", 0.25);
-  EXPECT_EQ (fx.interference.blob_px, 3);
-  EXPECT_EQ (fx.vertical_stripes.offset_px, 0.25);
+  EXPECT_EQ (fx.parameters<effects::Interference> ().blob_px, 3);
+  EXPECT_EQ (fx.parameters<effects::VerticalStripes> ().offset_px, 0.25);
   EXPECT_EQ (effectParameter (fx, "vertical_stripes", "offset_px"), 0.25);
   EXPECT_EQ (enabledEffects (fx), std::vector<std::string> ({"interference"}));
   expectError<pcl::BadArgumentException> ([&] { setEffectEnabled (fx, "speckle", true); }, "unknown effect 'speckle'");
@@ -356,8 +361,8 @@ TEST (SimulatorEffects, CatalogueFollowsTheDesignVocabulary)
   expectError<pcl::BadArgumentException> ([&] { applyEffectAssignment ("radial.gain", fx); }, "effect.parameter=value");
   expectError<pcl::BadArgumentException> ([&] { applyEffectAssignment ("radial.gain=abc", fx); }, "not a number");
   applyEffectAssignment ("radial.gain=0.75", fx);
-  EXPECT_EQ (fx.radial.gain, 0.75);
-  EXPECT_FALSE (fx.radial.enabled) << "setting a parameter does not switch the effect on";
+  EXPECT_EQ (fx.parameters<effects::Radial> ().gain, 0.75);
+  EXPECT_FALSE (fx.isEnabled<effects::Radial> ()) << "setting a parameter does not switch the effect on";
 }
 
 TEST_F (SceneFiles, YamlConfigurationAndItsErrors)
@@ -375,9 +380,9 @@ TEST_F (SceneFiles, YamlConfigurationAndItsErrors)
   EXPECT_FALSE (s.projector_shadows);
   EXPECT_EQ (enabledEffects (s.effects),
              std::vector<std::string> ({"radial", "disparity_quantization", "vertical_stripes"}));
-  EXPECT_EQ (s.effects.vertical_stripes.bands, 8);
-  EXPECT_EQ (s.effects.vertical_stripes.offset_px, 0.0625);
-  EXPECT_EQ (s.effects.incidence_angle.gain, 2.0);
+  EXPECT_EQ (effectParameter (s.effects, "vertical_stripes", "bands"), 8);
+  EXPECT_EQ (effectParameter (s.effects, "vertical_stripes", "offset_px"), 0.0625);
+  EXPECT_EQ (effectParameter (s.effects, "incidence_angle", "gain"), 2.0);
 
   const SimulationSettings before = s;
   const auto rejected = [&] (const std::string &yaml, const std::string &needle) {
@@ -398,8 +403,8 @@ TEST_F (SceneFiles, YamlConfigurationAndItsErrors)
   std::ofstream (file ("effects.yaml")) << "effects:\n  temporal_drift: {amplitude_px: 0.3}\n";
   SimulationSettings fromFile;
   loadSimulationConfig (file ("effects.yaml"), fromFile);
-  EXPECT_TRUE (fromFile.effects.temporal_drift.enabled);
-  EXPECT_EQ (fromFile.effects.temporal_drift.amplitude_px, 0.3);
+  EXPECT_TRUE (isEffectEnabled (fromFile.effects, "temporal_drift"));
+  EXPECT_EQ (effectParameter (fromFile.effects, "temporal_drift", "amplitude_px"), 0.3);
   expectError<pcl::IOException> ([&] { loadSimulationConfig (file ("nope.yaml"), fromFile); },
                                  "nope.yaml': does not exist");
 }

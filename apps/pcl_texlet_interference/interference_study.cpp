@@ -78,7 +78,7 @@ simulateInterferenceRecordings (const SimulatedSetup &setup, int projectors)
   const sim::SceneSetup scene =
       sim::boxSetup (setup.distance_m, setup.elevation_deg, 3, setup.box_size_m, setup.plate_m);
   sim::SimulationSettings settings;
-  settings.effects.interference = setup.interference;
+  settings.effects.set<effects::Interference> (setup.interference);
   const sim::DepthSensor model = sim::DepthSensor::kinect (setup.width, setup.height);
 
   std::vector<SensorRecording> out;

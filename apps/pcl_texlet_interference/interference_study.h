@@ -14,7 +14,7 @@
  */
 #pragma once
 
-#include <pcl_texlet/kernels/sensor_effects.h>
+#include <pcl_texlet/noise/effects/interference.h>
 #include <pcl_texlet/relations/extrinsics.h>
 #include <pcl_texlet/relations/known_object.h>
 #include <pcl_texlet/relations/texlet_merge.h>
@@ -60,10 +60,11 @@ struct SimulatedSetup
   double elevation_deg = 45.0;
   double plate_m = 0.35;      ///< the base plate's side (see paperBoxObject)
   Eigen::Vector3d box_size_m = Eigen::Vector3d (0.128, 0.112, 0.240);
-  /** \brief The interference effect (DESIGN.md section 5), on; the rest of the simulator's
-    * effects stay off so that interference is what changes with the projector count.
+  /** \brief The interference effect's parameters (docs/sensor_model.md); it is on and the rest
+    * of the simulator's effects stay off, so that interference is what changes with the
+    * projector count.
     */
-  kernels::Interference interference{true, 1.0, 0.1, 4};
+  effects::Interference::SimParameters interference;
   std::uint32_t seed = 0;
   std::size_t frames = 1;
   unsigned threads = 0;

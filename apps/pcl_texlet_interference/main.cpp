@@ -262,7 +262,7 @@ run (int argc, char **argv)
              {"distance_m", o.distance},
              {"elevation_deg", o.elevation},
              {"plate_mm", o.plate_mm},
-             {"interference", {{"noise_gain", o.noise_gain}, {"dropout_rate", o.dropout_rate}}},
+             {effects::Interference::kName, {{"noise_gain", o.noise_gain}, {"dropout_rate", o.dropout_rate}}},
              {"seed", o.seed}};
   }
   else

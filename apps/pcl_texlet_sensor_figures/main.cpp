@@ -11,9 +11,18 @@
  * Every file is written to a temporary name and renamed, so no half-written file is left.
  */
 #include "../common/app_main.h"
-#include <pcl_texlet/kernels/sensor_effects.h>
 #include <pcl_texlet/kernels/structured_light.h>
 #include <pcl_texlet/noise/noise_model.h>
+#include <pcl_texlet/noise/effects/axial_quadratic.h>
+#include <pcl_texlet/noise/effects/depth_distortion.h>
+#include <pcl_texlet/noise/effects/disparity_quantization.h>
+#include <pcl_texlet/noise/effects/incidence_angle.h>
+#include <pcl_texlet/noise/effects/interference.h>
+#include <pcl_texlet/noise/effects/intrinsics.h>
+#include <pcl_texlet/noise/effects/lateral_noise.h>
+#include <pcl_texlet/noise/effects/radial.h>
+#include <pcl_texlet/noise/effects/temporal_drift.h>
+#include <pcl_texlet/noise/effects/vertical_stripes.h>
 #include <pcl_texlet/camera/pinhole_model.h>
 #include <pcl_texlet/simulation/kinect_simulator.h>
 #include <pcl_texlet/simulation/scene_setup.h>
@@ -58,9 +67,9 @@ const std::vector<std::string> &
 figureNames ()
 {
   static const std::vector<std::string> names = {
-      "base_noise",       "projector_shadows", "axial_quadratic", "radial",        "disparity_quantization",
-      "incidence_angle",  "vertical_stripes",  "depth_distortion", "interference", "temporal_drift",
-      "lateral_noise",    "intrinsics"};
+      "base_noise",       "projector_shadows", effects::AxialQuadratic::kName, effects::Radial::kName,        effects::DisparityQuantization::kName,
+      effects::IncidenceAngle::kName,  effects::VerticalStripes::kName,  effects::DepthDistortion::kName, effects::Interference::kName, effects::TemporalDrift::kName,
+      effects::LateralNoise::kName,    effects::Intrinsics::kName};
   return names;
 }
 
@@ -273,16 +282,16 @@ public:
     static const std::map<std::string, void (FigureMaker::*) ()> studies = {
         {"base_noise", &FigureMaker::baseNoise},
         {"projector_shadows", &FigureMaker::projectorShadows},
-        {"axial_quadratic", &FigureMaker::axialQuadratic},
-        {"radial", &FigureMaker::radial},
-        {"disparity_quantization", &FigureMaker::disparityQuantization},
-        {"incidence_angle", &FigureMaker::incidenceAngle},
-        {"vertical_stripes", &FigureMaker::verticalStripes},
-        {"depth_distortion", &FigureMaker::depthDistortion},
-        {"interference", &FigureMaker::interference},
-        {"temporal_drift", &FigureMaker::temporalDrift},
-        {"lateral_noise", &FigureMaker::lateralNoise},
-        {"intrinsics", &FigureMaker::intrinsics}};
+        {effects::AxialQuadratic::kName, &FigureMaker::axialQuadratic},
+        {effects::Radial::kName, &FigureMaker::radial},
+        {effects::DisparityQuantization::kName, &FigureMaker::disparityQuantization},
+        {effects::IncidenceAngle::kName, &FigureMaker::incidenceAngle},
+        {effects::VerticalStripes::kName, &FigureMaker::verticalStripes},
+        {effects::DepthDistortion::kName, &FigureMaker::depthDistortion},
+        {effects::Interference::kName, &FigureMaker::interference},
+        {effects::TemporalDrift::kName, &FigureMaker::temporalDrift},
+        {effects::LateralNoise::kName, &FigureMaker::lateralNoise},
+        {effects::Intrinsics::kName, &FigureMaker::intrinsics}};
     (this->*studies.at (name)) ();
   }
 
@@ -499,7 +508,7 @@ private:
   axialQuadratic ()
   {
     std::ostringstream out;
-    const double sigma_px = kernels::AxialQuadratic ().sigma_px;
+    const double sigma_px = effects::AxialQuadratic::SimParameters ().sigma_px;
     out << "# z_m sd_base_mm sd_axial_mm model_base_mm model_axial_mm   (central window; axial sigma_px "
         << sigma_px << ")\n# model_axial: sqrt(f(r,d)^2 + (1000 sigma_px z^2 / (f b))^2 + 1/12)\n";
     for (int k = 0; k <= 23; ++k)
@@ -509,7 +518,7 @@ private:
       for (int with = 0; with < 2; ++with)
       {
         SimulationSettings s = settings ();
-        s.effects.axial_quadratic.enabled = with == 1;
+        setEffectEnabled (s.effects, effects::AxialQuadratic::kName, with == 1);
         const KinectSimulator sim = simulator (planeSetup (z, 0, 0), s);
         const PixelStats st = pixelStats (sim, frames (sim));
         std::vector<double> measured, predicted;
@@ -531,10 +540,10 @@ private:
       for (const double at : {1.0, 1.5, 2.0, 3.0})
         if (std::fabs (z - at) < 1e-9)
         {
-          note ("axial_quadratic", "sd_base_mm_at_" + num (at) + "m", sd[0]);
-          note ("axial_quadratic", "sd_axial_mm_at_" + num (at) + "m", sd[1]);
-          note ("axial_quadratic", "model_axial_mm_at_" + num (at) + "m", model[1]);
-          note ("axial_quadratic", "axial_term_mm_at_" + num (at) + "m",
+          note (effects::AxialQuadratic::kName, "sd_base_mm_at_" + num (at) + "m", sd[0]);
+          note (effects::AxialQuadratic::kName, "sd_axial_mm_at_" + num (at) + "m", sd[1]);
+          note (effects::AxialQuadratic::kName, "model_axial_mm_at_" + num (at) + "m", model[1]);
+          note (effects::AxialQuadratic::kName, "axial_term_mm_at_" + num (at) + "m",
                 1000.0 * kernels::depthSigmaFromDisparitySigma (sigma_px, at, fb_));
         }
     }
@@ -545,12 +554,12 @@ private:
   void
   radial ()
   {
-    const kernels::Radial p{true};
+    const effects::Radial::SimParameters p;
     RadialProfile measured[2], predicted[2];
     for (int with = 0; with < 2; ++with)
     {
       SimulationSettings s = settings ();
-      s.effects.radial.enabled = with == 1;
+      setEffectEnabled (s.effects, effects::Radial::kName, with == 1);
       const KinectSimulator sim = simulator (planeSetup (1.5, 0, 0), s);
       const PixelStats st = pixelStats (sim, frames (sim));
       measured[with].bin_px = predicted[with].bin_px = radialBin ();
@@ -558,7 +567,7 @@ private:
         for (int u = 0; u < st.width; ++u)
         {
           const std::size_t i = static_cast<std::size_t> (v) * st.width + u;
-          const double factor = with ? kernels::radialFactor (p, radius (u, v)) : 1.0;
+          const double factor = with ? effects::Radial::factor (p, radius (u, v)) : 1.0;
           measured[with].add (radius (u, v), st.sd (i));
           predicted[with].add (radius (u, v), withRounding (factor * paperSigma (u, v, st.truth[i])));
         }
@@ -572,26 +581,26 @@ private:
           << " " << num (predicted[0].mean (b)) << " " << num (predicted[1].mean (b)) << "\n";
     write ("radial.dat", out.str ());
     const std::size_t outer = measured[0].sum.size () - 1;
-    note ("radial", "outer_radius_px", measured[0].centre (outer));
-    note ("radial", "sd_base_outer_mm", measured[0].mean (outer));
-    note ("radial", "sd_radial_outer_mm", measured[1].mean (outer));
-    note ("radial", "model_radial_outer_mm", predicted[1].mean (outer));
-    note ("radial", "sd_base_centre_mm", measured[0].mean (0));
-    note ("radial", "sd_radial_centre_mm", measured[1].mean (0));
+    note (effects::Radial::kName, "outer_radius_px", measured[0].centre (outer));
+    note (effects::Radial::kName, "sd_base_outer_mm", measured[0].mean (outer));
+    note (effects::Radial::kName, "sd_radial_outer_mm", measured[1].mean (outer));
+    note (effects::Radial::kName, "model_radial_outer_mm", predicted[1].mean (outer));
+    note (effects::Radial::kName, "sd_base_centre_mm", measured[0].mean (0));
+    note (effects::Radial::kName, "sd_radial_centre_mm", measured[1].mean (0));
   }
 
   /** Depth histogram on a frontal wall and the mean-error staircase on a tilted one. */
   void
   disparityQuantization ()
   {
-    const double step = kernels::DisparityQuantization ().step_px;
+    const double step = effects::DisparityQuantization::SimParameters ().step_px;
     const double z = 1.5;
     std::map<int, std::size_t> hist[2];
     std::size_t total[2] = {0, 0};
     for (int with = 0; with < 2; ++with)
     {
       SimulationSettings s = settings ();
-      s.effects.disparity_quantization.enabled = with == 1;
+      setEffectEnabled (s.effects, effects::DisparityQuantization::kName, with == 1);
       const KinectSimulator sim = simulator (planeSetup (z, 0, 0), s);
       for (const auto &f : frames (sim))
         for (const auto d : f.depth_mm)
@@ -621,14 +630,14 @@ private:
     for (int k = k0 - 4; k <= k0 + 4; ++k)
       lattice << k << " " << num (1000.0 * kernels::depthFromDisparity (k * step, fb_), 7) << "\n";
     write ("disparity_quantization_lattice.dat", lattice.str ());
-    note ("disparity_quantization", "step_mm_at_1.5m", 1000.0 * kernels::depthStep (z, step, fb_));
-    note ("disparity_quantization", "distinct_depths_base", static_cast<double> (hist[0].size ()), 6);
-    note ("disparity_quantization", "distinct_depths_quantised", static_cast<double> (hist[1].size ()), 6);
+    note (effects::DisparityQuantization::kName, "step_mm_at_1.5m", 1000.0 * kernels::depthStep (z, step, fb_));
+    note (effects::DisparityQuantization::kName, "distinct_depths_base", static_cast<double> (hist[0].size ()), 6);
+    note (effects::DisparityQuantization::kName, "distinct_depths_quantised", static_cast<double> (hist[1].size ()), 6);
     {
       std::size_t most = 0;
       for (const auto &kv : hist[1])
         most = std::max (most, kv.second);
-      note ("disparity_quantization", "largest_bin_fraction_quantised", static_cast<double> (most) / total[1]);
+      note (effects::DisparityQuantization::kName, "largest_bin_fraction_quantised", static_cast<double> (most) / total[1]);
     }
 
     // The staircase: mean reported minus true depth along the central row of a wall tilted 5 deg
@@ -637,7 +646,7 @@ private:
     for (int with = 0; with < 2; ++with)
     {
       SimulationSettings s = settings ();
-      s.effects.disparity_quantization.enabled = with == 1;
+      setEffectEnabled (s.effects, effects::DisparityQuantization::kName, with == 1);
       const KinectSimulator sim = simulator (planeSetup (z, 0, 5), s);
       st[with] = pixelStats (sim, frames (sim));
     }
@@ -656,14 +665,14 @@ private:
       errs.push_back (std::fabs (st[1].bias (i)));
     }
     write ("disparity_quantization_staircase.dat", stair.str ());
-    note ("disparity_quantization", "max_abs_mean_error_quantised_mm", *std::max_element (errs.begin (), errs.end ()));
+    note (effects::DisparityQuantization::kName, "max_abs_mean_error_quantised_mm", *std::max_element (errs.begin (), errs.end ()));
   }
 
   /** SD and readings vs the wall's tilt, central window: base alone and base + incidence_angle. */
   void
   incidenceAngle ()
   {
-    const kernels::IncidenceAngle p{true};
+    const effects::IncidenceAngle::SimParameters p;
     std::ostringstream out;
     out << "# tilt_deg sd_base_mm sd_incidence_mm model_base_mm model_incidence_mm valid_base valid_incidence   "
            "(wall at 1.5 m tilted about the image y axis; central window)\n"
@@ -675,7 +684,7 @@ private:
       for (int with = 0; with < 2; ++with)
       {
         SimulationSettings s = settings ();
-        s.effects.incidence_angle.enabled = with == 1;
+        setEffectEnabled (s.effects, effects::IncidenceAngle::kName, with == 1);
         const KinectSimulator sim = simulator (planeSetup (1.5, 0, tilt), s);
         const SensorTruth &t = sim.truth (0);
         const PixelStats st = pixelStats (sim, frames (sim));
@@ -686,9 +695,9 @@ private:
             if (central (u, v))
             {
               const std::size_t i = static_cast<std::size_t> (v) * st.width + u;
-              const double factor = with ? kernels::incidenceFactor (p, t.cos_incidence[i]) : 1.0;
+              const double factor = with ? effects::IncidenceAngle::factor (p, t.cos_incidence[i]) : 1.0;
               measured.push_back (st.sd (i));
-              if (!(with && kernels::incidenceTooOblique (p, t.cos_incidence[i])))
+              if (!(with && effects::IncidenceAngle::tooOblique (p, t.cos_incidence[i])))
                 predicted.push_back (withRounding (factor * paperSigma (u, v, st.truth[i])));
               readings += st.n[i];
               pixels += static_cast<double> (st.frames);
@@ -702,10 +711,10 @@ private:
       for (const double at : {0.0, 30.0, 60.0, 78.0, 82.0})
         if (tilt == at)
         {
-          note ("incidence_angle", "sd_base_mm_at_" + num (at) + "deg", sd[0]);
-          note ("incidence_angle", "sd_incidence_mm_at_" + num (at) + "deg", sd[1]);
-          note ("incidence_angle", "model_incidence_mm_at_" + num (at) + "deg", model[1]);
-          note ("incidence_angle", "valid_incidence_at_" + num (at) + "deg", valid[1]);
+          note (effects::IncidenceAngle::kName, "sd_base_mm_at_" + num (at) + "deg", sd[0]);
+          note (effects::IncidenceAngle::kName, "sd_incidence_mm_at_" + num (at) + "deg", sd[1]);
+          note (effects::IncidenceAngle::kName, "model_incidence_mm_at_" + num (at) + "deg", model[1]);
+          note (effects::IncidenceAngle::kName, "valid_incidence_at_" + num (at) + "deg", valid[1]);
         }
     }
     write ("incidence_angle.dat", out.str ());
@@ -715,7 +724,7 @@ private:
   void
   verticalStripes ()
   {
-    const kernels::VerticalStripes p{true};
+    const effects::VerticalStripes::SimParameters p;
     // Frame 0 and the first frame of the next layout.
     const std::uint32_t later = static_cast<std::uint32_t> (p.period_frames);
     std::vector<double> profile[3];
@@ -723,7 +732,7 @@ private:
     for (int run = 0; run < 3; ++run)
     {
       SimulationSettings s = settings ();
-      s.effects.vertical_stripes.enabled = run > 0;
+      setEffectEnabled (s.effects, effects::VerticalStripes::kName, run > 0);
       const KinectSimulator sim = simulator (planeSetup (1.5, 0, 0), s);
       const SensorTruth &t = sim.truth (0);
       const DepthFrame f = sim.simulateFrame (0, run == 2 ? later : 0);
@@ -763,18 +772,18 @@ private:
           m = std::max (m, std::fabs (c[u] - c[u - 1]));
       return m;
     };
-    note ("vertical_stripes", "column_mean_sd_base_mm", sdOf (profile[0]));
-    note ("vertical_stripes", "column_mean_sd_stripes_mm", sdOf (profile[1]));
-    note ("vertical_stripes", "largest_column_jump_base_mm", jump (profile[0]));
-    note ("vertical_stripes", "largest_column_jump_stripes_mm", jump (profile[1]));
-    note ("vertical_stripes", "band_offset_sd_model_mm", 1000.0 * kernels::depthSigmaFromDisparitySigma (p.offset_px, 1.5, fb_));
+    note (effects::VerticalStripes::kName, "column_mean_sd_base_mm", sdOf (profile[0]));
+    note (effects::VerticalStripes::kName, "column_mean_sd_stripes_mm", sdOf (profile[1]));
+    note (effects::VerticalStripes::kName, "largest_column_jump_base_mm", jump (profile[0]));
+    note (effects::VerticalStripes::kName, "largest_column_jump_stripes_mm", jump (profile[1]));
+    note (effects::VerticalStripes::kName, "band_offset_sd_model_mm", 1000.0 * kernels::depthSigmaFromDisparitySigma (p.offset_px, 1.5, fb_));
   }
 
   /** The static bias map at 1.5 m and its central-row profile at three depths. */
   void
   depthDistortion ()
   {
-    const kernels::DepthDistortion p{true};
+    const effects::DepthDistortion::SimParameters p;
     const std::vector<double> distances = {1.0, 1.5, 2.0};
     const double r_corner = std::sqrt (std::pow (std::max (model_.cx, model_.width - 1 - model_.cx), 2) +
                                        std::pow (std::max (model_.cy, model_.height - 1 - model_.cy), 2));
@@ -783,7 +792,7 @@ private:
     for (std::size_t k = 0; k < distances.size (); ++k)
     {
       SimulationSettings s = settings ();
-      s.effects.depth_distortion.enabled = true;
+      setEffectEnabled (s.effects, effects::DepthDistortion::kName, true);
       const KinectSimulator sim = simulator (planeSetup (distances[k], 0, 0), s);
       const PixelStats st = pixelStats (sim, frames (sim));
       std::vector<double> bias (st.n.size ()), model (st.n.size ());
@@ -794,7 +803,7 @@ private:
         {
           const std::size_t i = static_cast<std::size_t> (v) * st.width + u;
           bias[i] = st.bias (i);
-          model[i] = offsetDepth (st.truth[i], kernels::distortionOffset (p, o_.seed, 0, u, v, model_.cx, model_.cy,
+          model[i] = offsetDepth (st.truth[i], effects::DepthDistortion::offset (p, o_.seed, 0, u, v, model_.cx, model_.cy,
                                                                           r_corner)) -
                      st.truth[i];
           if (std::isfinite (bias[i]))
@@ -804,10 +813,10 @@ private:
             ++n;
           }
         }
-      note ("depth_distortion", "bias_rms_model_mm_at_" + num (distances[k]) + "m", std::sqrt (model2 / n));
-      note ("depth_distortion", "measured_minus_model_rms_mm_at_" + num (distances[k]) + "m", std::sqrt (err2 / n));
+      note (effects::DepthDistortion::kName, "bias_rms_model_mm_at_" + num (distances[k]) + "m", std::sqrt (model2 / n));
+      note (effects::DepthDistortion::kName, "measured_minus_model_rms_mm_at_" + num (distances[k]) + "m", std::sqrt (err2 / n));
       const std::size_t corner = 0;
-      note ("depth_distortion", "model_bias_corner_mm_at_" + num (distances[k]) + "m", model[corner]);
+      note (effects::DepthDistortion::kName, "model_bias_corner_mm_at_" + num (distances[k]) + "m", model[corner]);
       // The central row, averaged over the five rows around it.
       measured[k].assign (st.width, kNaN);
       predicted[k].assign (st.width, kNaN);
@@ -849,7 +858,7 @@ private:
   void
   interference ()
   {
-    const kernels::Interference p{true};
+    const effects::Interference::SimParameters p;
     std::ostringstream out;
     out << "# projectors sd_off_mm sd_on_mm model_sd_on_mm holes_off holes_on model_holes_on mean_load   "
            "(wall at 1.5 m, sensors 0.3 m apart aimed at its centre; sensor 0 recorded)\n"
@@ -861,7 +870,7 @@ private:
       for (int with = 0; with < 2; ++with)
       {
         SimulationSettings s = settings ();
-        s.effects.interference.enabled = with == 1;
+        setEffectEnabled (s.effects, effects::Interference::kName, with == 1);
         const KinectSimulator sim = simulator (planeSetup (1.5, 0, 0, projectors), s);
         const SensorTruth &t = sim.truth (0);
         const std::vector<DepthFrame> fr = frames (sim);
@@ -877,12 +886,12 @@ private:
             lit += static_cast<double> (fr.size ());
             missing += static_cast<double> (fr.size ()) - st.n[i];
             loads.push_back (t.foreign_load[i]);
-            drop.push_back (kernels::interferenceDropout (p, t.foreign_load[i]));
+            drop.push_back (effects::Interference::dropoutAt (p, t.foreign_load[i]));
             if (central (u, v))
             {
               measured.push_back (st.sd (i));
               predicted.push_back (
-                  withRounding (kernels::interferenceFactor (p, t.foreign_load[i]) * paperSigma (u, v, st.truth[i])));
+                  withRounding (effects::Interference::factor (p, t.foreign_load[i]) * paperSigma (u, v, st.truth[i])));
             }
           }
         sd[with] = meanOf (measured);
@@ -904,13 +913,13 @@ private:
       out << projectors << " " << num (sd[0]) << " " << num (sd[1]) << " " << num (model_sd) << " " << num (holes[0])
           << " " << num (holes[1]) << " " << num (model_holes) << " " << num (load) << "\n";
       const std::string at = "_" + std::to_string (projectors) + "_projectors";
-      note ("interference", "sd_off_mm" + at, sd[0]);
-      note ("interference", "sd_on_mm" + at, sd[1]);
-      note ("interference", "model_sd_on_mm" + at, model_sd);
-      note ("interference", "holes_off" + at, holes[0]);
-      note ("interference", "holes_on" + at, holes[1]);
-      note ("interference", "model_holes_on" + at, model_holes);
-      note ("interference", "mean_load" + at, load);
+      note (effects::Interference::kName, "sd_off_mm" + at, sd[0]);
+      note (effects::Interference::kName, "sd_on_mm" + at, sd[1]);
+      note (effects::Interference::kName, "model_sd_on_mm" + at, model_sd);
+      note (effects::Interference::kName, "holes_off" + at, holes[0]);
+      note (effects::Interference::kName, "holes_on" + at, holes[1]);
+      note (effects::Interference::kName, "model_holes_on" + at, model_holes);
+      note (effects::Interference::kName, "mean_load" + at, load);
     }
     write ("interference.dat", out.str ());
   }
@@ -919,12 +928,12 @@ private:
   void
   temporalDrift ()
   {
-    const kernels::TemporalDrift p{true};
+    const effects::TemporalDrift::SimParameters p;
     std::vector<double> mean[2];
     for (int with = 0; with < 2; ++with)
     {
       SimulationSettings s = settings ();
-      s.effects.temporal_drift.enabled = with == 1;
+      setEffectEnabled (s.effects, effects::TemporalDrift::kName, with == 1);
       const KinectSimulator sim = simulator (planeSetup (1.5, 0, 0), s);
       const SensorTruth &t = sim.truth (0);
       for (const auto &f : frames (sim))
@@ -946,13 +955,13 @@ private:
         << "# model: 1000 (f b / (f b / z + amplitude exp(-frame / tau)) - z)\n";
     for (std::size_t k = 0; k < mean[0].size (); ++k)
     {
-      const double model = offsetDepth (1500.0, kernels::driftOffset (p, static_cast<std::uint32_t> (k))) - 1500.0;
+      const double model = offsetDepth (1500.0, effects::TemporalDrift::frameOffset (p, static_cast<std::uint32_t> (k))) - 1500.0;
       out << k << " " << num (mean[0][k]) << " " << num (mean[1][k]) << " " << num (model) << "\n";
       if (k == 0 || k == 10 || k + 1 == mean[0].size ())
       {
-        note ("temporal_drift", "mean_residual_drift_mm_frame_" + std::to_string (k), mean[1][k]);
-        note ("temporal_drift", "model_drift_mm_frame_" + std::to_string (k), model);
-        note ("temporal_drift", "mean_residual_base_mm_frame_" + std::to_string (k), mean[0][k]);
+        note (effects::TemporalDrift::kName, "mean_residual_drift_mm_frame_" + std::to_string (k), mean[1][k]);
+        note (effects::TemporalDrift::kName, "model_drift_mm_frame_" + std::to_string (k), model);
+        note (effects::TemporalDrift::kName, "mean_residual_base_mm_frame_" + std::to_string (k), mean[0][k]);
       }
     }
     write ("temporal_drift.dat", out.str ());
@@ -962,7 +971,7 @@ private:
   void
   lateralNoise ()
   {
-    const kernels::LateralNoise p{true};
+    const effects::LateralNoise::SimParameters p;
     const double z_front = 1.5, z_back = 1.8, z_split = 0.5 * (z_front + z_back);
     // A panel at 1.5 m over the left half of the view before a wall at 1.8 m: the projector,
     // to the camera's right, casts no visible shadow on this side of the panel.
@@ -978,7 +987,7 @@ private:
     for (int with = 0; with < 2; ++with)
     {
       SimulationSettings s = settings ();
-      s.effects.lateral_noise.enabled = with == 1;
+      setEffectEnabled (s.effects, effects::LateralNoise::kName, with == 1);
       const KinectSimulator sim = simulator (scene, s);
       const SensorTruth &t = sim.truth (0);
       const int row = static_cast<int> (std::lround (model_.cy));
@@ -1045,20 +1054,20 @@ private:
             ++compared;
             differ += fr[0][f].depth_mm[i] != fr[1][f].depth_mm[i] ? 1 : 0;
           }
-    note ("lateral_noise", "edge_column", edge, 6);
-    note ("lateral_noise", "edge_position_sd_base_px", sdOf (positions[0]));
-    note ("lateral_noise", "edge_position_sd_lateral_px", sdOf (positions[1]));
-    note ("lateral_noise", "pixels_changed_away_from_edge", static_cast<double> (differ), 8);
-    note ("lateral_noise", "pixels_compared_away_from_edge", static_cast<double> (compared), 10);
+    note (effects::LateralNoise::kName, "edge_column", edge, 6);
+    note (effects::LateralNoise::kName, "edge_position_sd_base_px", sdOf (positions[0]));
+    note (effects::LateralNoise::kName, "edge_position_sd_lateral_px", sdOf (positions[1]));
+    note (effects::LateralNoise::kName, "pixels_changed_away_from_edge", static_cast<double> (differ), 8);
+    note (effects::LateralNoise::kName, "pixels_compared_away_from_edge", static_cast<double> (compared), 10);
   }
 
   /** Geometry back-projected with the labelled intrinsics: lateral error and fitted wall tilt. */
   void
   intrinsics ()
   {
-    const kernels::Intrinsics p{true};
+    const effects::Intrinsics::SimParameters p;
     SimulationSettings s = settings ();
-    s.effects.intrinsics.enabled = true;
+    setEffectEnabled (s.effects, effects::Intrinsics::kName, true);
     const auto cloud = [&] (const KinectSimulator &sim, const DepthFrame &f, const CameraModel &cam) {
       std::vector<Eigen::Vector3d> points (f.depth_mm.size (), Eigen::Vector3d::Constant (kNaN));
       for (int v = 0; v < f.height; ++v)
@@ -1118,9 +1127,9 @@ private:
         max_err = std::max (max_err, std::fabs (err));
       }
       write ("intrinsics_row.dat", out.str ());
-      note ("intrinsics", "labelled_fx_px", labelled.fx ());
-      note ("intrinsics", "max_lateral_error_mm_at_1.5m", max_err);
-      note ("intrinsics", "lateral_scale_percent", 100.0 * (1.0 / p.focal_scale - 1.0));
+      note (effects::Intrinsics::kName, "labelled_fx_px", labelled.fx ());
+      note (effects::Intrinsics::kName, "max_lateral_error_mm_at_1.5m", max_err);
+      note (effects::Intrinsics::kName, "lateral_scale_percent", 100.0 * (1.0 / p.focal_scale - 1.0));
     }
     // The fitted tilt of walls turned about the image y axis.
     std::ostringstream out;
@@ -1138,9 +1147,9 @@ private:
       out << num (tilt) << " " << num (fitted_true) << " " << num (fitted_labelled) << " " << num (model) << "\n";
       if (tilt == 45.0)
       {
-        note ("intrinsics", "fitted_tilt_true_deg_at_45", fitted_true);
-        note ("intrinsics", "fitted_tilt_labelled_deg_at_45", fitted_labelled);
-        note ("intrinsics", "model_tilt_labelled_deg_at_45", model);
+        note (effects::Intrinsics::kName, "fitted_tilt_true_deg_at_45", fitted_true);
+        note (effects::Intrinsics::kName, "fitted_tilt_labelled_deg_at_45", fitted_labelled);
+        note (effects::Intrinsics::kName, "model_tilt_labelled_deg_at_45", model);
       }
     }
     write ("intrinsics_tilt.dat", out.str ());

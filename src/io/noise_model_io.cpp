@@ -1,4 +1,5 @@
 #include <pcl_texlet/io/noise_model_io.h>
+#include <pcl_texlet/noise/model_description.h>
 #include <pcl_texlet/noise/noise_terms.h>
 
 #include <pcl/exceptions.h>
@@ -70,30 +71,23 @@ scalarText (const YAML::Node &node, const std::string &source, const std::string
 std::string
 noiseModelToYaml (const NoiseModel &model)
 {
+  const ModelDescription d = describeModel (model);
+  const auto map = [] (const std::vector<std::pair<std::string, double>> &entries) {
+    std::string text = "{";
+    for (std::size_t i = 0; i < entries.size (); ++i)
+      text += (i ? ", " : "") + entries[i].first + ": " + number (entries[i].second);
+    return text + "}";
+  };
   std::ostringstream out;
   out << "# pcl_texlet noise model: depth SD and bias in mm (DESIGN.md section 5 terms)\n";
-  out << "min_sigma_mm: " << number (model.minSigmaMm ()) << "\n";
+  out << "min_sigma_mm: " << number (d.min_sigma_mm) << "\n";
   out << "terms:\n";
-  for (const auto &t : model.terms ())
+  for (const auto &t : d.terms)
   {
-    out << "  - name: " << t->name () << "\n";
-    if (const auto e = std::dynamic_pointer_cast<const EffectTerm> (t))
-    {
-      const auto settings = e->settings ();
-      if (!settings.empty ())
-      {
-        out << "    settings: {";
-        for (std::size_t i = 0; i < settings.size (); ++i)
-          out << (i ? ", " : "") << settings[i].first << ": " << number (settings[i].second);
-        out << "}\n";
-      }
-    }
-    const auto names = t->parameterNames ();
-    const auto values = t->parameters ();
-    out << "    parameters: {";
-    for (std::size_t i = 0; i < names.size (); ++i)
-      out << (i ? ", " : "") << names[i] << ": " << number (values[i]);
-    out << "}\n";
+    out << "  - name: " << t.name << "\n";
+    if (!t.settings.empty ())
+      out << "    settings: " << map (t.settings) << "\n";
+    out << "    parameters: " << map (t.parameters) << "\n";
   }
   return out.str ();
 }
@@ -156,15 +150,14 @@ parseNoiseModelYaml (const std::string &yaml, const std::string &source)
     }
     if (t["settings"])
     {
-      auto effect = std::dynamic_pointer_cast<EffectTerm> (term);
-      if (!effect || !t["settings"].IsMap ())
+      if (!t["settings"].IsMap ())
         fail (source, "term '" + name + "': 'settings' must be a map of the term's settings");
       for (const auto &kv : t["settings"])
       {
         const std::string key = scalarText (kv.first, source, "a key of term '" + name + "'");
         try
         {
-          effect->setSetting (key, finiteValue (kv.second, source, "term '" + name + "' setting " + key));
+          term->setSetting (key, finiteValue (kv.second, source, "term '" + name + "' setting " + key));
         }
         catch (const pcl::BadArgumentException &e)
         {

@@ -1,5 +1,6 @@
 #include <pcl_texlet/lab/model_lab.h>
-#include <pcl_texlet/kernels/effect_terms.h>
+#include <pcl_texlet/kernels/structured_light.h>
+#include <pcl_texlet/noise/effect_registry.h>
 #include <pcl_texlet/noise/noise_terms.h>
 
 #include <pcl/exceptions.h>
@@ -132,16 +133,11 @@ inHalfPixel (Half half, bool split_frames, int u, int v)
 PixelContext
 pixelContext (const RecordingMeasurement &m, std::size_t i)
 {
-  PixelContext c;
-  c.u = static_cast<double> (i % m.width);
-  c.v = static_cast<double> (i / m.width);
-  c.radius_px = m.radius (c.u, c.v);
-  c.depth_mm = m.surface_mm[i];
+  PixelContext c = m.noiseContexts ().at (static_cast<double> (i % m.width), static_cast<double> (i / m.width),
+                                          m.surface_mm[i]);
   c.true_depth_mm = m.surface_mm[i];
   c.cos_incidence = m.cos_incidence[i];
-  c.active_projectors = m.active_projectors;
   c.edge_distance_px = std::min (m.edge_distance_px[i], 1e3f);
-  c.fb_px_m = m.fb ();
   return c;
 }
 
@@ -455,7 +451,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
       double z = B.sz / B.w;
       if (which)
       {
-        const double step = m.camera.disparity_subpixel > 0 ? m.camera.disparity_subpixel : 0.125;
+        const double step = m.camera.disparity_subpixel > 0 ? m.camera.disparity_subpixel : CameraInfo ().disparity_subpixel;
         const double fb1000 = 1000.0 * m.fb ();
         const double levels = std::floor (fb1000 / z / step);
         z = fb1000 / ((levels + B.sphase / B.w) * step);
@@ -466,32 +462,55 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
   return d;
 }
 
-bool
-hasTerm (const NoiseModel &m, const std::string &name)
-{
-  return m.find (name) != nullptr;
-}
+/** The most basis functions a linear bias term may have at one pixel. */
+constexpr int kMaxBiasBasis = 16;
 
-/** Whether any term's bias depends on the frame (drift): then the frame part is predicted. */
+/** The model as the fits see it: the term whose bias is linear (a distortion grid, fitted by
+  * least squares with the surfaces) and the term that rounds apart from the rest.
+  */
 struct ModelView
 {
   const NoiseModel &model;
-  bool quantised;
-  NoiseModel without_grid;   // the model less the distortion grid (its bias is per pixel)
-  NoiseModel pre_quantised;  // ... and less the quantisation (its bias is per pixel too)
-  double step = 0;
-  std::shared_ptr<const DepthDistortionTerm> grid;
-  explicit ModelView (const NoiseModel &m)
-    : model (m), quantised (hasTerm (m, "disparity_quantization")), without_grid (m), pre_quantised (m)
+  bool quantised = false;
+  NoiseModel without_grid;   // the model less the linear bias term (its bias is per pixel)
+  NoiseModel pre_quantised;  // ... and less the rounding term (its bias is per pixel too)
+  NoiseTerm::ConstPtr quantiser;
+  NoiseTerm::ConstPtr grid;
+  explicit ModelView (const NoiseModel &m) : model (m), without_grid (m), pre_quantised (m)
   {
-    grid = std::dynamic_pointer_cast<const DepthDistortionTerm> (m.find ("depth_distortion"));
-    without_grid.remove ("depth_distortion");
-    pre_quantised.remove ("depth_distortion");
-    pre_quantised.remove ("disparity_quantization");
-    if (quantised)
-      step = std::fabs (m.find ("disparity_quantization")->parameters ()[0]);
+    for (const auto &t : m.terms ())
+    {
+      if (!grid && t->linearBiasSupport () > 0)
+        grid = t;
+      if (!quantiser && t->quantises ())
+        quantiser = t;
+    }
+    quantised = quantiser != nullptr;
+    if (grid)
+    {
+      if (grid->linearBiasSupport () > kMaxBiasBasis)
+        throw pcl::BadArgumentException ("model lab: the term '" + grid->name () + "' has more than " +
+                                         std::to_string (kMaxBiasBasis) + " bias basis functions at a pixel");
+      without_grid.remove (grid->name ());
+      pre_quantised.remove (grid->name ());
+    }
+    if (quantiser)
+      pre_quantised.remove (quantiser->name ());
   }
 };
+
+/** The disparity offset (px) of linear bias term \a grid with node values \a nodes at (u, v). */
+double
+linearBiasPx (const NoiseTerm &grid, const std::vector<double> &nodes, double u, double v)
+{
+  int idx[kMaxBiasBasis];
+  double wt[kMaxBiasBasis];
+  grid.linearBiasBasis (u, v, idx, wt);
+  double offset = 0;
+  for (int k = 0; k < grid.linearBiasSupport (); ++k)
+    offset += wt[k] * nodes[idx[k]];
+  return offset;
+}
 
 /** Result of the linear fit of surfaces (and a distortion grid) for one model on one half. */
 struct StaticState
@@ -539,17 +558,9 @@ staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<Recor
   const std::vector<Bin> &bins = mv.quantised ? d.qbins : d.bins;
   binMoments (mv, bins, s);
   const std::size_t R = recs.size ();
-  int G = 0, gx = 0, gy = 0;
-  double gw = 0, gh = 0;
-  if (mv.grid)
-  {
-    gx = mv.grid->nodesX ();
-    gy = mv.grid->nodesY ();
-    gw = mv.grid->imageWidth ();
-    gh = mv.grid->imageHeight ();
-    G = fit_grid ? gx * gy : 0;
-  }
   const std::vector<double> fixed_grid = mv.grid ? mv.grid->parameters () : std::vector<double> ();
+  const int G = mv.grid && fit_grid ? static_cast<int> (fixed_grid.size ()) : 0;
+  const int K = mv.grid ? mv.grid->linearBiasSupport () : 0;
   // Quantised models: the mean offset of the rounding at each pixel's own sub-step phase (it
   // changes by a whole step over a phase, too fast for bins), from the bin's noise before it.
   s.pixel_bias.clear ();
@@ -571,25 +582,25 @@ staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<Recor
       const RecordingMeasurement &m = *recs[p.rec];
       const double d0 = 1000.0 * m.fb () / m.surface_mm[p.index] - pre_bias[p.qbin] / p.J;
       double offset = 0, var = 0;
-      kernels::quantizedMoments (d0, std::sqrt (pre_var[p.qbin]) / p.J, mv.step, offset, var);
+      mv.quantiser->roundingMoments (d0, std::sqrt (pre_var[p.qbin]) / p.J, offset, var);
       s.pixel_bias[k] = static_cast<float> (pre_bias[p.qbin] - p.J * offset);
     }
   }
   const int N = static_cast<int> (3 * R) + G;
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero (N, N);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero (N);
-  auto gridAt = [&] (const PixelRow &p, int idx[4], double wt[4]) {
+  auto gridAt = [&] (const PixelRow &p, int *idx, double *wt) {
     const RecordingMeasurement &m = *recs[p.rec];
-    kernels::bilinearGridWeights (gx, gy, gw, gh, double (p.index % m.width), double (p.index / m.width), idx, wt);
+    mv.grid->linearBiasBasis (double (p.index % m.width), double (p.index / m.width), idx, wt);
   };
   auto target = [&] (const PixelRow &p) {
     double t = p.disparity + (mv.quantised ? s.pixel_bias[&p - d.px.data ()] / p.J : 0.0);
     if (mv.grid && !fit_grid)
     {
-      int idx[4];
-      double wt[4];
+      int idx[kMaxBiasBasis];
+      double wt[kMaxBiasBasis];
       gridAt (p, idx, wt);
-      for (int k = 0; k < 4; ++k)
+      for (int k = 0; k < K; ++k)
         t -= wt[k] * fixed_grid[idx[k]];
     }
     return t;
@@ -611,10 +622,10 @@ staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<Recor
     }
     if (G)
     {
-      int idx[4];
-      double wt[4];
+      int idx[kMaxBiasBasis];
+      double wt[kMaxBiasBasis];
       gridAt (p, idx, wt);
-      for (int k = 0; k < 4; ++k)
+      for (int k = 0; k < K; ++k)
       {
         const int gk = static_cast<int> (3 * R) + idx[k];
         rhs[gk] += w * wt[k] * t;
@@ -623,7 +634,7 @@ staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<Recor
           A (gk, o + a) += w * wt[k] * row[a];
           A (o + a, gk) += w * wt[k] * row[a];
         }
-        for (int l = 0; l < 4; ++l)
+        for (int l = 0; l < K; ++l)
           A (gk, static_cast<int> (3 * R) + idx[l]) += w * wt[k] * wt[l];
       }
     }
@@ -651,10 +662,10 @@ staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<Recor
       predicted = 1000.0 * m.fb () / m.surface_mm[p.index];
     if (G)
     {
-      int idx[4];
-      double wt[4];
+      int idx[kMaxBiasBasis];
+      double wt[kMaxBiasBasis];
       gridAt (p, idx, wt);
-      for (int k = 0; k < 4; ++k)
+      for (int k = 0; k < K; ++k)
         predicted += wt[k] * s.grid[idx[k]];
     }
     const double e = p.J * (target (p) - predicted);
@@ -675,7 +686,10 @@ frameBias (const NoiseModel &model, PixelContext ctx, int frame)
 bool
 frameDependent (const NoiseModel &model)
 {
-  return hasTerm (model, "temporal_drift");
+  for (const auto &t : model.terms ())
+    if (t->frameDependent ())
+      return true;
+  return false;
 }
 
 /** Variance (disparity px^2) that the pixels' independent noise gives an offset whose noise
@@ -768,22 +782,6 @@ struct ParameterMap
   std::vector<double> scale;
 };
 
-double
-typicalScale (const std::string &name, double value)
-{
-  double typical = 1.0;
-  if (name == "gain" || name == "noise_gain")
-    typical = 0.1;
-  else if (name == "sigma_px" || name == "offset_px" || name == "amplitude_px")
-    typical = 0.02;
-  else if (name == "step_px")
-    typical = 0.05;
-  else if (name == "time_constant_frames")
-    typical = 5.0;
-  else if (name[0] == 'p' && name.size () == 3)
-    typical = std::max (std::fabs (value), 1e-12);
-  return std::max (std::fabs (value), typical);
-}
 
 ParameterMap
 parameterMap (const NoiseModel &m, int only_term = -1)
@@ -792,14 +790,14 @@ parameterMap (const NoiseModel &m, int only_term = -1)
   for (std::size_t t = 0; t < m.terms ().size (); ++t)
   {
     const auto &term = m.terms ()[t];
-    if (term->name () == "depth_distortion" || (only_term >= 0 && static_cast<int> (t) != only_term))
+    // A linear bias term is fitted by least squares, not here.
+    if (term->linearBiasSupport () > 0 || (only_term >= 0 && static_cast<int> (t) != only_term))
       continue;
-    const auto names = term->parameterNames ();
     const auto values = term->parameters ();
-    for (std::size_t k = 0; k < names.size (); ++k)
+    for (std::size_t k = 0; k < values.size (); ++k)
     {
       pm.where.emplace_back (t, k);
-      pm.scale.push_back (typicalScale (names[k], values[k]));
+      pm.scale.push_back (std::max (std::fabs (values[k]), term->typicalScale (k)));
     }
   }
   return pm;
@@ -883,29 +881,17 @@ private:
   double samples_;
 };
 
-/** Starting values for a term that was just added (its neutral values sit on a saddle). */
+/** Starting values for a term that was just added (its neutral values sit on a saddle): the
+  * term's own, some from the recordings.
+  */
 void
 startValues (NoiseTerm &term, const std::vector<RecordingMeasurement::ConstPtr> &recs)
 {
-  const std::string n = term.name ();
-  if (n == "axial_quadratic")
-    term.setParameters ({0.02});
-  else if (n == "radial" || n == "incidence_angle" || n == "interference")
-    term.setParameters ({0.1});
-  else if (n == "disparity_quantization")
-    term.setParameters ({recs.front ()->camera.disparity_subpixel > 0 ? recs.front ()->camera.disparity_subpixel : 0.125});
-  else if (n == "vertical_stripes")
-    term.setParameters ({0.05, 6.0});
-  else if (n == "temporal_drift")
-    term.setParameters ({0.05, 10.0});
-  else if (n == "lateral_noise")
-    term.setParameters ({1.0, 1.5});
-  else if (n == "depth_distortion")
-  {
-    auto *g = dynamic_cast<DepthDistortionTerm *> (&term);
-    g->setSetting ("image_width", recs.front ()->width);
-    g->setSetting ("image_height", recs.front ()->height);
-  }
+  effects::LabStart facts;
+  facts.image_width = recs.front ()->width;
+  facts.image_height = recs.front ()->height;
+  facts.disparity_step_px = recs.front ()->camera.disparity_subpixel;
+  term.setLabStart (facts);
 }
 
 /** One Ceres run over the parameters of \a pm, from the model's current values. */
@@ -942,7 +928,7 @@ fitObjective (NoiseModel &model, const ModelLab::Data &d, const std::vector<Reco
   const ModelView mv (model);
   staticFit (mv, d, recs, true, s);
   if (mv.grid && !s.grid.empty ())
-    model.find ("depth_distortion")->setParameters (s.grid);
+    model.find (mv.grid->name ())->setParameters (s.grid);
   return objective (ModelView (model), d, s) / d.samples;
 }
 
@@ -958,7 +944,9 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
 {
   NoiseModel model (start);
   const ParameterMap pm = parameterMap (model);
-  const bool has_static = hasTerm (model, "disparity_quantization") || hasTerm (model, "depth_distortion");
+  bool has_static = false; // a rounding or a linear bias term: the static fit changes with the rest
+  for (const auto &t : model.terms ())
+    has_static = has_static || t->quantises () || t->linearBiasSupport () > 0;
   const int outer = has_static ? std::max (1, settings.outer_iterations) : std::min (2, std::max (1, settings.outer_iterations));
   if (new_term >= 0)
   {
@@ -1000,8 +988,6 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
     NoiseModel nested (start);
     const std::string name = nested.terms ()[new_term]->name ();
     const NoiseTerm::Ptr neutral = makeNoiseTerm (name);
-    if (name == "depth_distortion")
-      startValues (*neutral, recs);
     nested.terms ()[new_term]->setParameters (neutral->parameters ());
     return nested;
   }
@@ -1035,7 +1021,7 @@ fitWithEffect (const NoiseModel &fitted, const NoiseModel &given, const std::str
                double nested_objective, int fits = -1)
 {
   const int added = static_cast<int> (fitted.terms ().size ());
-  const bool two_fits = name == "disparity_quantization" && given.terms ().size () == fitted.terms ().size ();
+  const bool two_fits = effectInfo (name).quantises && given.terms ().size () == fitted.terms ().size ();
   if (fits == 1 && two_fits)
     return fitOn (withTerm (given, name, recs), d, recs, settings, added, nested_objective);
   NoiseModel m = fitOn (withTerm (fitted, name, recs), d, recs, settings, added, nested_objective);
@@ -1074,8 +1060,8 @@ synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<
     return g (rng);
   };
   // Within sums: the bins of both sets get the same draws, pixel by pixel, so they agree.
-  NoiseModel no_grid (model);
-  no_grid.remove ("depth_distortion");
+  const NoiseModel &no_grid = mv.without_grid;
+  const std::vector<double> grid_nodes = mv.grid ? mv.grid->parameters () : std::vector<double> ();
   for (Bin &b : out->bins)
     b.ssw = 0;
   for (Bin &b : out->qbins)
@@ -1105,7 +1091,7 @@ synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<
     double disparity = d.plane[p.rec] ? s.planes[p.rec].dot (Eigen::Vector3d (1.0, p.x, p.y))
                                       : 1000.0 * m.fb () / m.surface_mm[p.index];
     if (mv.grid)
-      disparity += mv.grid->offsetPx (double (p.index % m.width), double (p.index / m.width));
+      disparity += linearBiasPx (*mv.grid, grid_nodes, double (p.index % m.width), double (p.index / m.width));
     disparity -= bias / p.J;
     disparity += gauss (rng) * std::sqrt ((var + col) / p.n) / p.J;
     p.disparity = static_cast<float> (disparity);
@@ -1360,19 +1346,16 @@ ModelLab::rankCandidates (const NoiseModel &current) const
       continue;
     Candidate c;
     c.effect = name;
-    NoiseTerm::Ptr term = makeNoiseTerm (name);
-    if (auto e = std::dynamic_pointer_cast<EffectTerm> (term))
-    {
-      c.physics = e->physics ();
-      c.signature = e->signature ();
-    }
-    if (name == "depth_distortion" && !any_plane)
+    const EffectInfo &info = effectInfo (name);
+    c.physics = info.physics;
+    c.signature = info.signature;
+    if ((info.lab_needs & effects::kNeedsPlaneScene) && !any_plane)
       c.applicable = false, c.note = "needs a plane scene (meta.yaml scene: plane) to tell a static bias from the surface";
-    else if (name == "interference" && !varied_projectors)
+    else if ((info.lab_needs & effects::kNeedsVariedProjectors) && !varied_projectors)
       c.applicable = false, c.note = "every recording has the same number of active projectors";
-    else if ((name == "temporal_drift" || name == "vertical_stripes") && !splitsFrames ())
+    else if ((info.lab_needs & effects::kNeedsFrameSplit) && !splitsFrames ())
       c.applicable = false, c.note = "needs recordings of at least 4 frames";
-    else if (name == "lateral_noise" && !any_edges)
+    else if ((info.lab_needs & effects::kNeedsDepthEdges) && !any_edges)
       c.applicable = false, c.note = "no depth edges in the recordings";
     out.push_back (c);
   }
@@ -1432,7 +1415,7 @@ ModelLab::rankCandidates (const NoiseModel &current) const
       if (out[k].applicable)
       {
         fits.push_back ({set, k, false, NoiseModel (), 0.0});
-        if (out[k].effect == "disparity_quantization" &&
+        if (effectInfo (out[k].effect).quantises &&
             sets[set].given.terms ().size () == sets[set].fitted.terms ().size ())
           fits.push_back ({set, k, true, NoiseModel (), 0.0});
       }
@@ -1442,7 +1425,7 @@ ModelLab::rankCandidates (const NoiseModel &current) const
   std::vector<int> order (fits.size ());
   std::iota (order.begin (), order.end (), 0);
   std::stable_partition (order.begin (), order.end (),
-                         [&] (int i) { return out[fits[i].candidate].effect == "disparity_quantization"; });
+                         [&] (int i) { return effectInfo (out[fits[i].candidate].effect).quantises; });
   parallelTasks (static_cast<int> (fits.size ()), threads, [&] (int i) {
     Fit &f = fits[order[i]];
     const DataSet &set = sets[f.set];
@@ -1557,8 +1540,8 @@ ModelLab::frameCurve (const NoiseModel &model, std::size_t r, std::vector<double
   const auto &list = d.frame_list[r];
   predicted_mm.assign (list.size (), 0.0);
   measured_mm.assign (list.size (), std::numeric_limits<double>::quiet_NaN ());
-  NoiseModel no_grid (model);
-  no_grid.remove ("depth_distortion");
+  const ModelView mv (model);
+  const NoiseModel &no_grid = mv.without_grid;
   double mean = 0;
   for (std::size_t k = 0; k < list.size (); ++k)
   {

@@ -396,10 +396,9 @@ recordingNoiseContext (const CameraInfo &camera, const std::string &meta_yaml, c
 {
   RecordingMeasurement facts;
   readSceneFacts (meta_yaml, name, facts);
-  PixelContext context;
-  context.fb_px_m = camera.fx () * camera.baseline_m;
-  context.active_projectors = facts.active_projectors;
-  return context;
+  PixelContextBuilder contexts (camera.cx (), camera.cy (), camera.fb ());
+  contexts.setActiveProjectors (facts.active_projectors);
+  return contexts.shared ();
 }
 
 RecordingMeasurement::Ptr

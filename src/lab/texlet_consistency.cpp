@@ -79,9 +79,7 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
     estimation.setSpacing (settings.spacing_px > 0 ? settings.spacing_px : std::max (2, rec->width / 32));
     // What the recording knows beyond its frames: f b (disparity-defined terms at this
     // resolution) and the active projectors; the frame index is set per frame below.
-    PixelContext context;
-    context.fb_px_m = rec->fb ();
-    context.active_projectors = rec->active_projectors;
+    PixelContext context = rec->noiseContexts ().shared ();
 
     // Evenly spaced frames; the default hexagonal grid depends only on the image size, so
     // texlet k is the same centre pixel in every frame.

@@ -11,6 +11,12 @@ namespace pcl
 namespace texlet
 {
 
+void
+NoiseTerm::setSetting (const std::string &setting, double)
+{
+  throw pcl::BadArgumentException ("noise term '" + name () + "': unknown setting '" + setting + "'");
+}
+
 double
 PolynomialSigmaTerm::sigmaMm (const PixelContext &ctx) const
 {

@@ -2,7 +2,7 @@
 
 #include <pcl_texlet/common/atomic_file.h>
 #include <pcl_texlet/io/noise_model_io.h>
-#include <pcl_texlet/noise/noise_terms.h>
+#include <pcl_texlet/noise/model_description.h>
 #include <pcl_texlet/report/base64.h>
 #include <pcl_texlet/report/gnuplot.h>
 
@@ -80,19 +80,16 @@ nlohmann::json
 termsJson (const NoiseModel &model)
 {
   nlohmann::json terms = nlohmann::json::array ();
-  for (const auto &t : model.terms ())
+  for (const auto &t : describeModel (model).terms)
   {
     nlohmann::json term;
-    term["name"] = t->name ();
+    term["name"] = t.name;
     nlohmann::json params = nlohmann::json::object ();
-    const auto names = t->parameterNames ();
-    const auto values = t->parameters ();
-    for (std::size_t k = 0; k < names.size (); ++k)
-      params[names[k]] = values[k];
+    for (const auto &p : t.parameters)
+      params[p.first] = p.second;
     term["parameters"] = params;
-    if (const auto e = std::dynamic_pointer_cast<const EffectTerm> (t))
-      for (const auto &s : e->settings ())
-        term["settings"][s.first] = s.second;
+    for (const auto &s : t.settings)
+      term["settings"][s.first] = s.second;
     terms.push_back (term);
   }
   return terms;

@@ -1,7 +1,7 @@
 #include <pcl_texlet/simulation/kinect_simulator.h>
 #include <pcl_texlet/kernels/depth_sensor.h>
-#include <pcl_texlet/kernels/sensor_effects.h>
 #include <pcl_texlet/kernels/structured_light.h>
+#include <pcl_texlet/noise/pixel_context.h>
 
 #include <pcl_texlet/common/error_text.h>
 
@@ -80,6 +80,7 @@ KinectSimulator::KinectSimulator (const Scene::ConstPtr &scene, const std::vecto
     }
   }
   validate (settings_.effects);
+  effects_ = generativeEffects (settings_.effects);
   truth_.resize (sensors_.size ());
   for (std::size_t i = 0; i < sensors_.size (); ++i)
     prepare (i);
@@ -116,11 +117,28 @@ KinectSimulator::activeProjectors () const
   return n;
 }
 
+effects::SimSensor
+KinectSimulator::simSensor (std::size_t index) const
+{
+  const DepthSensor &s = sensors_[index];
+  effects::SimSensor out;
+  out.seed = settings_.seed;
+  out.sensor = static_cast<std::uint32_t> (index);
+  out.width = s.width;
+  out.height = s.height;
+  out.cx = s.cx;
+  out.cy = s.cy;
+  // The distance of the corner farthest from the principal point (depth_distortion's bowl).
+  out.r_corner = std::sqrt (std::pow (std::max (s.cx, s.width - 1 - s.cx), 2) +
+                            std::pow (std::max (s.cy, s.height - 1 - s.cy), 2));
+  out.fb = s.fb ();
+  return out;
+}
+
 void
 KinectSimulator::prepare (std::size_t index)
 {
   const DepthSensor &s = sensors_[index];
-  const SensorEffects &fx = settings_.effects;
   SensorTruth &t = truth_[index];
   const std::size_t n = static_cast<std::size_t> (s.width) * s.height;
   t.width = s.width;
@@ -137,10 +155,14 @@ KinectSimulator::prepare (std::size_t index)
   const Eigen::Matrix3d rotation = s.pose.linear ();
   const Eigen::Vector3d camera = s.cameraPosition (), projector = s.projectorPosition ();
   const double fb = s.fb ();
-  // The distortion bowl is normalised at the corner farthest from the principal point.
-  const double r_corner = std::sqrt (std::pow (std::max (s.cx, s.width - 1 - s.cx), 2) +
-                                     std::pow (std::max (s.cy, s.height - 1 - s.cy), 2));
-  const bool interference = fx.interference.enabled;
+  const effects::SimSensor sensor = simSensor (index);
+  const std::vector<GenerativeEffect::ConstPtr> &on = effects_.on;
+  bool foreign_load = false;
+  for (const auto &e : on)
+    foreign_load = foreign_load || e->needsForeignLoad ();
+  // The base noise sees the sensor's own f b and projectors, and each pixel's incidence angle.
+  PixelContextBuilder contexts (s.cx, s.cy, fb);
+  contexts.setActiveProjectors (activeProjectors ());
 
   parallelFor (s.height, numberOfThreads (), true, [&] (int v) {
     for (int u = 0; u < s.width; ++u)
@@ -165,7 +187,7 @@ KinectSimulator::prepare (std::size_t index)
       const bool lit = !settings_.projector_shadows || (cos_own > 0 && !scene_->occluded (projector, point));
       t.lit[i] = lit ? 1 : 0;
 
-      if (interference)
+      if (foreign_load)
       {
         double load = 0.0;
         for (std::size_t j = 0; j < sensors_.size (); ++j)
@@ -190,30 +212,46 @@ KinectSimulator::prepare (std::size_t index)
         t.foreign_load[i] = static_cast<float> (load);
       }
 
-      if (!lit || kernels::incidenceTooOblique (fx.incidence_angle, cos_view))
+      effects::SimPixel px;
+      px.u = u;
+      px.v = v;
+      px.radius_px = std::hypot (u - s.cx, v - s.cy);
+      px.depth_m = z;
+      px.cos_incidence = cos_view;
+      px.foreign_load = t.foreign_load[i];
+      bool readable = lit;
+      for (const auto &e : on)
+        readable = readable && e->readable (px);
+      if (!readable)
         continue;
 
-      const double r_px = std::hypot (u - s.cx, v - s.cy);
       double base = 0.0;
       if (settings_.base_noise)
       {
-        PixelContext ctx;
-        ctx.u = u;
-        ctx.v = v;
-        ctx.radius_px = r_px;
-        ctx.depth_mm = 1000.0 * z;
+        PixelContext ctx = contexts.at (u, v, px.radius_px, 1000.0 * z);
+        ctx.cos_incidence = cos_view;
         base = kernels::disparitySigmaFromDepthSigma (1e-3 * settings_.noise_model.sigmaMm (ctx), z, fb);
       }
-      const double axial = fx.axial_quadratic.enabled ? fx.axial_quadratic.sigma_px : 0.0;
-      const double load = t.foreign_load[i];
-      t.sigma_px[i] = static_cast<float> (std::sqrt (base * base + axial * axial) *
-                                          kernels::radialFactor (fx.radial, r_px) *
-                                          kernels::incidenceFactor (fx.incidence_angle, cos_view) *
-                                          kernels::interferenceFactor (fx.interference, load));
-      t.dropout[i] = static_cast<float> (kernels::interferenceDropout (fx.interference, load));
-      t.disparity_px[i] = kernels::disparityFromDepth (z, fb) +
-                          kernels::distortionOffset (fx.depth_distortion, settings_.seed,
-                                                     static_cast<std::uint32_t> (index), u, v, s.cx, s.cy, r_corner);
+      // The SD in two phases: variances added to the base noise's, then the factors in registry
+      // order; an effect without a hook adds exactly 0 or multiplies by exactly 1.
+      double variance = base * base;
+      for (const auto &e : on)
+        variance += e->disparityVariance (px);
+      double sigma = std::sqrt (variance);
+      for (const auto &e : on)
+        sigma *= e->sdFactor (px);
+      t.sigma_px[i] = static_cast<float> (sigma);
+      double dropout = 0.0;
+      for (const auto &e : on)
+      {
+        const double q = e->dropout (px);
+        dropout = dropout + q - dropout * q;
+      }
+      t.dropout[i] = static_cast<float> (dropout);
+      double disparity = kernels::disparityFromDepth (z, fb);
+      for (const auto &e : on)
+        disparity += e->disparityOffset (sensor, px);
+      t.disparity_px[i] = disparity;
     }
   });
 }
@@ -222,17 +260,23 @@ CameraInfo
 KinectSimulator::cameraInfo (std::size_t index) const
 {
   const DepthSensor &s = sensor (index);
-  double fx = s.fx, fy = s.fy, cx = s.cx, cy = s.cy;
-  kernels::labelledIntrinsics (settings_.effects.intrinsics, fx, fy, cx, cy);
+  effects::CameraLabel label;
+  label.fx = s.fx;
+  label.fy = s.fy;
+  label.cx = s.cx;
+  label.cy = s.cy;
+  label.disparity_step_px = CameraInfo ().disparity_subpixel;
+  for (std::size_t k = 0; k < effects_.all.size (); ++k)
+    effects_.all[k]->labelCamera (effects_.enabled[k], label);
   CameraInfo info;
   info.width = s.width;
   info.height = s.height;
-  const double k[9] = {fx, 0, cx, 0, fy, cy, 0, 0, 1};
-  std::copy (k, k + 9, info.K);
+  const double K[9] = {label.fx, 0, label.cx, 0, label.fy, label.cy, 0, 0, 1};
+  std::copy (K, K + 9, info.K);
   info.distortion_model = "plumb_bob";
   info.D.assign (5, 0.0);
   info.baseline_m = s.baseline_m;
-  info.disparity_subpixel = settings_.effects.disparity_quantization.step_px;
+  info.disparity_subpixel = label.disparity_step_px;
   return info;
 }
 
@@ -241,16 +285,23 @@ KinectSimulator::renderRows (std::size_t index, std::uint32_t frame, DepthFrame 
 {
   const DepthSensor &s = sensor (index);
   const SensorTruth &t = truth_[index];
-  const SensorEffects &fx = settings_.effects;
+
+  bool dropout = false, columns_offset = false;
+  for (const auto &e : effects_.on)
+  {
+    dropout = dropout || e->hasDropout ();
+    columns_offset = columns_offset || e->hasColumnOffsets ();
+  }
 
   kernels::SensorPixelMaps maps;
   maps.width = s.width;
   maps.height = s.height;
   maps.disparity_px = t.disparity_px.data ();
   maps.sigma_px = t.sigma_px.data ();
-  maps.dropout = fx.interference.enabled ? t.dropout.data () : nullptr;
+  maps.dropout = dropout ? t.dropout.data () : nullptr;
   maps.depth_m = t.depth_m.data ();
 
+  const effects::SimSensor sensor = simSensor (index);
   std::vector<float> columns;
   kernels::SensorFrameSettings fs;
   fs.seed = settings_.seed;
@@ -259,20 +310,18 @@ KinectSimulator::renderRows (std::size_t index, std::uint32_t frame, DepthFrame 
   fs.fb = s.fb ();
   fs.min_depth_m = s.min_depth_m;
   fs.max_depth_m = s.max_depth_m;
-  fs.frame_offset_px = kernels::driftOffset (fx.temporal_drift, frame);
-  if (fx.vertical_stripes.enabled)
+  if (columns_offset)
   {
-    columns.resize (s.width);
-    kernels::stripeColumnOffsets (fx.vertical_stripes, fs.seed, fs.sensor, frame, s.width, columns.data ());
+    columns.assign (s.width, 0.0f);
     fs.column_offset_px = columns.data ();
   }
-  fs.quantisation_step_px = fx.disparity_quantization.enabled ? fx.disparity_quantization.step_px : 0.0;
-  if (fx.lateral_noise.enabled)
+  for (const auto &e : effects_.on)
   {
-    fs.lateral_sigma_px = fx.lateral_noise.sigma_px;
-    fs.lateral_min_jump_m = fx.lateral_noise.min_jump_m;
+    fs.frame_offset_px += e->frameOffset (frame);
+    if (columns_offset)
+      e->addColumnOffsets (sensor, frame, columns.data ());
+    e->frameSettings (fs);
   }
-  fs.dropout_blob_px = fx.interference.blob_px;
 
   out.name = frameName (frame);
   out.width = s.width;

@@ -1,4 +1,5 @@
 #include <pcl_texlet/simulation/simulation_meta.h>
+#include <pcl_texlet/noise/model_description.h>
 
 #include <pcl/exceptions.h>
 
@@ -83,14 +84,14 @@ simulationMetaYaml (const SceneSetup &setup, const KinectSimulator &simulator, s
   else
   {
     out << YAML::Key << "base_noise" << YAML::Value << "custom";
+    // The terms' parameters (meta.yaml records what the noise was; model.yaml is the file to
+    // read a model back from).
     out << YAML::Key << "base_noise_terms" << YAML::Value << YAML::BeginMap;
-    for (const auto &t : settings.noise_model.terms ())
+    for (const auto &t : describeModel (settings.noise_model).terms)
     {
-      out << YAML::Key << t->name () << YAML::Value << YAML::Flow << YAML::BeginMap;
-      const auto names = t->parameterNames ();
-      const auto values = t->parameters ();
-      for (std::size_t k = 0; k < names.size () && k < values.size (); ++k)
-        out << YAML::Key << names[k] << YAML::Value << number (values[k]);
+      out << YAML::Key << t.name << YAML::Value << YAML::Flow << YAML::BeginMap;
+      for (const auto &p : t.parameters)
+        out << YAML::Key << p.first << YAML::Value << number (p.second);
       out << YAML::EndMap;
     }
     out << YAML::EndMap;

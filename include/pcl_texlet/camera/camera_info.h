@@ -3,6 +3,8 @@
  */
 #pragma once
 
+#include <pcl_texlet/kernels/structured_light.h>
+
 #include <string>
 #include <vector>
 
@@ -31,6 +33,8 @@ struct CameraInfo
   double fy () const { return K[4]; }
   double cx () const { return K[2]; }
   double cy () const { return K[5]; }
+  /** \brief Focal length fx (px) times the baseline (m), the f b of triangulation. */
+  double fb () const { return kernels::focalBaseline (fx (), baseline_m); }
 };
 
 } // namespace texlet

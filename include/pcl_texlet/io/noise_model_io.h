@@ -12,8 +12,8 @@
  *       settings: {image_width: 640, image_height: 480, nodes_x: 17, nodes_y: 13}
  *       parameters: {offset_0_0: 0.01, ...}
  *
- * Term names are those of DESIGN.md section 5 plus `polynomial` (the paper's Eq. 4). A term
- * lists every parameter; settings it does not list keep their defaults.
+ * Term names are those of the effect registry (noise/effect_registry.h) plus `polynomial` (the
+ * paper's Eq. 4). A term lists every parameter; settings it does not list keep their defaults.
  */
 #pragma once
 

@@ -21,6 +21,15 @@ namespace texlet
 namespace kernels
 {
 
+/** \brief The product f b that triangulation divides by: focal length \a fx_px (pixels) times
+  * baseline \a baseline_m (metres). Every f b of the project comes from here.
+  */
+PCL_TEXLET_HD constexpr double
+focalBaseline (double fx_px, double baseline_m)
+{
+  return fx_px * baseline_m;
+}
+
 /** \brief Disparity in pixels of depth \a z_m (metres): f b / z. \a fb = f (px) * b (m). */
 PCL_TEXLET_HD double
 disparityFromDepth (double z_m, double fb)
@@ -58,6 +67,31 @@ PCL_TEXLET_HD double
 quantiseDisparity (double d_px, double step_px)
 {
   return step_px * std::floor (d_px / step_px + 0.5);
+}
+
+/** \brief Depth change per pixel of disparity at depth \a z_mm, mm/px: z^2 / (f b). Through it a
+  * disparity offset delta (px) moves the depth by -J delta and a disparity SD s becomes J s.
+  */
+PCL_TEXLET_HD double
+depthPerDisparityMm (double z_mm, double fb_px_m)
+{
+  return z_mm * z_mm / (1000.0 * fb_px_m);
+}
+
+/** \brief Irradiance of a projector at a surface point relative to the sensor's own projector,
+  * capped at \a cap: (cos_j / r_j^2) / (cos_own / r_own^2). Cosines are of the angle between
+  * the surface normal and the direction to the projector; zero when cos_j <= 0. Summed over the
+  * other active projectors it is the foreign load that interference grows with.
+  */
+PCL_TEXLET_HD double
+relativeIrradiance (double cos_j, double r_j, double cos_own, double r_own, double cap = 4.0)
+{
+  if (!(cos_j > 0))
+    return 0.0;
+  if (!(cos_own > 0))
+    return cap;
+  const double w = (cos_j / (r_j * r_j)) / (cos_own / (r_own * r_own));
+  return w < cap ? w : cap;
 }
 
 /** \brief Depth step (m) between neighbouring quantised disparities at depth \a z_m:

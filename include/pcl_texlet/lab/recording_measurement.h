@@ -73,7 +73,18 @@ struct RecordingMeasurement
   double plane[3] = {0, 0, 0};      ///< plane scenes: disparity = p0 + p1 x + p2 y (normalised x, y)
 
   /** \brief f (px) times baseline (m). */
-  double fb () const { return camera.fx () * camera.baseline_m; }
+  double fb () const { return camera.fb (); }
+
+  /** \brief The noise model's contexts of this recording's pixels: its principal point, f b
+    * and active projectors.
+    */
+  PixelContextBuilder
+  noiseContexts () const
+  {
+    PixelContextBuilder b (camera.cx (), camera.cy (), fb ());
+    b.setActiveProjectors (active_projectors);
+    return b;
+  }
   /** \brief Distance of pixel (u, v) from the principal point, px. */
   double radius (double u, double v) const;
   /** \brief Depth of frame \a t at pixel \a i, mm (0 = none). */

@@ -4,38 +4,26 @@
  * Each term contributes a variance (and optionally a bias) of the depth in millimetres at a
  * pixel; the model's sigma is the root of their sum. The default model is the paper's
  * polynomial f(r, d) (Eq. 4). Terms expose their parameters by name so that the model lab can
- * fit them; one NoiseModel object is passed down from the sensor model to the texlets.
+ * fit them, and the properties the lab needs to fit them (which are linear, which round, which
+ * depend on the frame); one NoiseModel object is passed down from the sensor model to the
+ * texlets. The physical effects' terms are made by the effect registry (noise/noise_terms.h).
  */
 #pragma once
 
 #include <pcl_texlet/kernels/noise_terms.h>
+#include <pcl_texlet/noise/effect.h>
+#include <pcl_texlet/noise/pixel_context.h>
 
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pcl
 {
 namespace texlet
 {
-
-/** \brief Where a depth sample was taken: pixel, distance from the principal point, depth. */
-struct PixelContext
-{
-  double u = 0.0;         ///< column, pixels
-  double v = 0.0;         ///< row, pixels
-  double radius_px = 0.0; ///< distance from the principal point, pixels
-  double depth_mm = 0.0;  ///< measured depth, millimetres
-  // Covariates of the effect terms (DESIGN.md section 5). The defaults describe what is known
-  // from a single frame, where terms fall back to their steady, phase-averaged form.
-  double cos_incidence = 1.0;      ///< cosine of the angle between surface normal and viewing ray
-  double active_projectors = 1.0;  ///< projectors lighting the scene, the sensor's own included
-  double frame = std::numeric_limits<double>::quiet_NaN ();         ///< frame index since power-on; NaN: steady state
-  double true_depth_mm = std::numeric_limits<double>::quiet_NaN (); ///< noise-free depth where known (the lab); NaN: unknown
-  double edge_distance_px = std::numeric_limits<double>::infinity (); ///< distance to the nearest depth edge, pixels
-  double fb_px_m = 580.0 * 0.075;  ///< focal length (px) times baseline (m): disparity = fb / z
-};
 
 /** \brief What a model predicts for one depth sample: bias and the parts of its variance. */
 struct NoiseMoments
@@ -56,7 +44,7 @@ public:
 
   virtual ~NoiseTerm () = default;
 
-  /** \brief Name of the effect (DESIGN.md section 5 vocabulary where one applies). */
+  /** \brief Name of the effect (the registry's vocabulary where one applies). */
   virtual std::string
   name () const = 0;
 
@@ -106,6 +94,64 @@ public:
 
   virtual Ptr
   clone () const = 0;
+
+  /** \brief Fixed settings (not fitted), name and value; none by default. */
+  virtual std::vector<std::pair<std::string, double>>
+  settings () const { return {}; }
+
+  /** \brief Sets one setting. \throws pcl::BadArgumentException for an unknown name or a bad value. */
+  virtual void
+  setSetting (const std::string &name, double value);
+
+  // --- What the model lab reads of a term (properties, so that it needs no effect's name).
+
+  /** \brief A typical magnitude of parameter \a k: the lab's fit scales the parameter by
+    * max (|value|, typical) so that every scaled parameter is of order one.
+    */
+  virtual double
+  typicalScale (std::size_t /*k*/) const { return 1.0; }
+
+  /** \brief Whether bias () depends on PixelContext::frame (then the lab predicts the frames'
+    * mean offsets from it).
+    */
+  virtual bool
+  frameDependent () const { return false; }
+
+  /** \brief Whether transformMoments () rounds the disparity; roundingMoments () then gives the
+    * rounding's moments at one pixel's own sub-step phase.
+    */
+  virtual bool
+  quantises () const { return false; }
+
+  /** \brief Mean offset and variance (px) of a disparity N(\a d0_px, \a sigma_px^2) after the
+    * term's rounding; no rounding by default.
+    */
+  virtual void
+  roundingMoments (double /*d0_px*/, double sigma_px, double &mean_offset_px, double &variance_px2) const
+  {
+    mean_offset_px = 0.0;
+    variance_px2 = sigma_px * sigma_px;
+  }
+
+  /** \brief For a term whose bias is linear in its parameters (a disparity offset map,
+    * offset(u, v) = sum_k parameter_k basis_k(u, v), bias = -J offset): the most basis functions
+    * that are non-zero at one pixel. 0 (the default): the bias is not linear, or there is none.
+    * The lab fits such a term by least squares with the surfaces.
+    */
+  virtual int
+  linearBiasSupport () const { return 0; }
+
+  /** \brief The linearBiasSupport () basis functions at pixel (\a u, \a v): their parameter
+    * indices and values (disparity px per unit of parameter).
+    */
+  virtual void
+  linearBiasBasis (double /*u*/, double /*v*/, int * /*index*/, double * /*weight*/) const {}
+
+  /** \brief Sets the values the lab starts a fit from (a neutral value is a saddle), some of
+    * them from what it knows of the recordings.
+    */
+  virtual void
+  setLabStart (const effects::LabStart & /*facts*/) {}
 };
 
 /** \brief Sigma as a second-order polynomial in r (px) and d (mm): the paper's Eq. 4.
@@ -137,6 +183,10 @@ public:
 
   NoiseTerm::Ptr
   clone () const override { return std::make_shared<PolynomialSigmaTerm> (*this); }
+
+  /** \brief The coefficients span many orders of magnitude: each is its own scale. */
+  double
+  typicalScale (std::size_t) const override { return 1e-12; }
 
   const kernels::PolynomialCoefficients &
   coefficients () const { return c_; }

@@ -7,6 +7,8 @@
  */
 #pragma once
 
+#include <pcl_texlet/kernels/structured_light.h>
+
 #include <Eigen/Geometry>
 
 namespace pcl
@@ -39,7 +41,7 @@ struct DepthSensor
 
   /** \brief Product of the focal length fx (px) and the baseline (m) that triangulation uses. */
   double
-  fb () const { return fx * baseline_m; }
+  fb () const { return kernels::focalBaseline (fx, baseline_m); }
 
   /** \brief Position of the camera's centre in the scene. */
   Eigen::Vector3d

@@ -1,14 +1,17 @@
 /*
- * pcl_texlet simulator: the switchable physical effects of DESIGN.md section 5, by name.
+ * pcl_texlet simulator: which physical effects a simulation draws, by name, with their
+ * parameter values.
  *
- * SensorEffects holds one parameter struct per effect (see kernels/sensor_effects.h for the
- * physics, parameters and units of each). The functions below reach effects and parameters by
- * their names, so that YAML files, the app's options and the model lab share one vocabulary.
+ * The effects are those of the effect registry (noise/effect_registry.h; each defined in its
+ * file noise/effects/<name>.h, with its physics, parameters and units). The functions below
+ * reach effects and parameters by their names, so that YAML files, the app's options and the
+ * model lab share one vocabulary; the typed accessors reach an effect through its file.
  */
 #pragma once
 
-#include <pcl_texlet/kernels/sensor_effects.h>
+#include <pcl_texlet/noise/effect_registry.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -19,62 +22,74 @@ namespace texlet
 namespace sim
 {
 
-/** \brief Every effect of the simulator; all off by default (the paper's noise alone). */
-struct SensorEffects
-{
-  kernels::AxialQuadratic axial_quadratic;             ///< `axial_quadratic`
-  kernels::Radial radial;                              ///< `radial`
-  kernels::DisparityQuantization disparity_quantization; ///< `disparity_quantization`
-  kernels::IncidenceAngle incidence_angle;             ///< `incidence_angle`
-  kernels::VerticalStripes vertical_stripes;           ///< `vertical_stripes`
-  kernels::DepthDistortion depth_distortion;           ///< `depth_distortion`
-  kernels::Interference interference;                  ///< `interference`
-  kernels::TemporalDrift temporal_drift;               ///< `temporal_drift`
-  kernels::LateralNoise lateral_noise;                 ///< `lateral_noise`
-  kernels::Intrinsics intrinsics;                      ///< `intrinsics`
-};
+using texlet::EffectInfo;
+using texlet::EffectParameterInfo;
+using texlet::ParameterRange;
+using texlet::effectCatalogue;
+using texlet::effectInfo;
+using texlet::toString;
 
-/** \brief Which values a parameter accepts. */
-enum class ParameterRange
-{
-  Any,             ///< any finite number
-  NonNegative,     ///< >= 0
-  Positive,        ///< > 0
-  PositiveInteger, ///< a whole number >= 1
-  AngleDegrees     ///< in (0, 90]
-};
-
-/** \brief Text for a range, e.g. "> 0". */
-std::string
-toString (ParameterRange range);
-
-/** \brief One parameter of an effect. */
-struct EffectParameterInfo
-{
-  std::string name;        ///< e.g. "offset_px"
-  std::string unit;        ///< e.g. "px", "m", "deg", "frames", "1" (dimensionless)
-  std::string description; ///< one line
-  ParameterRange range = ParameterRange::Any;
-  double default_value = 0.0;
-};
-
-/** \brief One effect: its name (DESIGN.md section 5), a one-line summary, its parameters. */
-struct EffectInfo
-{
-  std::string name;
-  std::string summary;
-  std::vector<EffectParameterInfo> parameters;
-};
-
-/** \brief All effects, in the order of DESIGN.md section 5. */
-const std::vector<EffectInfo> &
-effectCatalogue ();
-
-/** \brief The entry of effect \a name. \throws pcl::BadArgumentException for an unknown name
-  *        (the message lists the known ones).
+/** \brief Every effect of the registry, on or off, with its simulator parameters; all off at
+  * their defaults when constructed (the paper's noise alone).
   */
-const EffectInfo &
-effectInfo (const std::string &name);
+class SensorEffects
+{
+public:
+  SensorEffects ();
+
+  /** \brief Number of effects (the registry's). */
+  std::size_t
+  size () const { return enabled_.size (); }
+
+  /** \brief Whether effect \a index (registry order) is on. */
+  bool
+  enabled (std::size_t index) const { return enabled_.at (index) != 0; }
+
+  void
+  setEnabled (std::size_t index, bool on) { enabled_.at (index) = on ? 1 : 0; }
+
+  /** \brief Parameter values of effect \a index, in the order of its catalogue entry. */
+  const std::vector<double> &
+  values (std::size_t index) const { return values_.at (index); }
+
+  /** \brief Sets parameter \a parameter of effect \a index without checking its range
+    * (validate () does; setEffectParameter checks at once).
+    */
+  void
+  setValue (std::size_t index, std::size_t parameter, double value) { values_.at (index).at (parameter) = value; }
+
+  /** \brief The parameters of effect file \a Effect (e.g. effects::Radial) as its struct. */
+  template <typename Effect>
+  typename Effect::SimParameters
+  parameters () const
+  {
+    return effects::withFieldValues (Effect::simParameters (), values (indexOf (Effect::kName)));
+  }
+
+  /** \brief Sets all parameters of effect file \a Effect from its struct, unchecked (validate ()
+    * checks them), and switches it on or off.
+    */
+  template <typename Effect>
+  void
+  set (const typename Effect::SimParameters &parameters, bool on = true)
+  {
+    const std::size_t i = indexOf (Effect::kName);
+    values_.at (i) = effects::fieldValues (Effect::simParameters (), parameters);
+    setEnabled (i, on);
+  }
+
+  /** \brief Whether effect file \a Effect is on. */
+  template <typename Effect>
+  bool
+  isEnabled () const { return enabled (indexOf (Effect::kName)); }
+
+private:
+  static std::size_t
+  indexOf (const std::string &name);
+
+  std::vector<std::uint8_t> enabled_;
+  std::vector<std::vector<double>> values_;
+};
 
 /** \brief Whether effect \a name is on. \throws pcl::BadArgumentException for an unknown name. */
 bool
@@ -106,6 +121,18 @@ enabledEffects (const SensorEffects &effects);
   */
 void
 validate (const SensorEffects &effects);
+
+/** \brief The simulator's hooks of the effects in registry order, each with whether it is on. */
+struct GenerativeEffects
+{
+  std::vector<GenerativeEffect::ConstPtr> all; ///< every simulated effect
+  std::vector<bool> enabled;                   ///< per entry of all
+  std::vector<GenerativeEffect::ConstPtr> on;  ///< the enabled ones, in order
+};
+
+/** \brief The hooks of \a effects at their values (call validate () first). */
+GenerativeEffects
+generativeEffects (const SensorEffects &effects);
 
 } // namespace sim
 } // namespace texlet

@@ -1,15 +1,17 @@
 /*
  * pcl_texlet simulator: depth frames of Kinect-class structured-light sensors looking at a
- * static scene, with the paper's noise and any of the physical effects of DESIGN.md section 5.
+ * static scene, with the paper's noise and any of the physical effects of the effect registry
+ * (noise/effect_registry.h).
  *
  * Per pixel: the true depth z along the optical axis comes from ray casting; the sensor
- * measures disparity d = f b / z, to which static offsets (depth_distortion), frame offsets
- * (temporal_drift, vertical_stripes) and Gaussian noise are added; the noise SD is the base
- * noise (the paper's polynomial, converted from depth to disparity) and axial_quadratic added
- * in quadrature, times the radial, incidence_angle and interference factors. The disparity is
- * then quantised (disparity_quantization) and reported as depth f b / d rounded to whole
- * millimetres, 0 where there is no reading (no surface, projector shadow, too oblique, an
- * interference hole, or outside the depth range).
+ * measures disparity d = f b / z, to which the effects' static offsets (depth_distortion),
+ * frame and column offsets (temporal_drift, vertical_stripes) and Gaussian noise are added; the
+ * noise SD is the base noise (the noise model, converted from depth to disparity) with the
+ * effects' variances added (axial_quadratic), times their SD factors in registry order
+ * (radial, incidence_angle, interference). The disparity is then quantised
+ * (disparity_quantization) and reported as depth f b / d rounded to whole millimetres, 0 where
+ * there is no reading (no surface, projector shadow, an effect's unreadable pixel or hole, or
+ * outside the depth range).
  *
  * Geometry is computed once per sensor; a frame is a pure function of (seed, sensor, frame),
  * drawn from Philox counters, so frames can be made in any order on any number of threads and
@@ -122,9 +124,14 @@ private:
   void
   renderRows (std::size_t index, std::uint32_t frame, DepthFrame &out, bool parallel) const;
 
+  /** The sensor as the effects' hooks see it. */
+  effects::SimSensor
+  simSensor (std::size_t index) const;
+
   Scene::ConstPtr scene_;
   std::vector<DepthSensor> sensors_;
   SimulationSettings settings_;
+  GenerativeEffects effects_; // the settings' effects, ready to draw
   std::vector<SensorTruth> truth_;
   unsigned threads_;
 };

@@ -1,5 +1,5 @@
 /*
- * pcl_texlet simulator: the meta.yaml of a simulated recording (DESIGN.md section 4).
+ * pcl_texlet simulator: the meta.yaml of a simulated recording (docs/sensor_model.md).
  *
  * Keys: generator, seed, first_frame, frames, scene (plane | box | free), scene_parameters,
  * box_size_m (box scenes), mesh (mesh scenes), projectors (active projectors), sensors,

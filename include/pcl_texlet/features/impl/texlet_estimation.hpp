@@ -46,12 +46,7 @@ inline double
 depthSigmaMetres (const NoiseModel &noise, const CameraModel &camera, int u, int v, double z,
                   const PixelContext &base = PixelContext ())
 {
-  PixelContext ctx = base;
-  ctx.u = u;
-  ctx.v = v;
-  ctx.radius_px = camera.principalPointDistance (u, v);
-  ctx.depth_mm = z * 1000.0;
-  return noise.sigmaMm (ctx) * 1e-3;
+  return noise.sigmaMm (PixelContextBuilder (base).at (u, v, camera.principalPointDistance (u, v), z * 1000.0)) * 1e-3;
 }
 
 /** \brief Gathers a texlet's neighbourhood from an organised cloud into reusable buffers and

@@ -1,0 +1,228 @@
+/*
+ * pcl_texlet effect `disparity_quantization`: the sensor reports disparity in sub-pixel steps.
+ */
+#pragma once
+
+#include <pcl_texlet/noise/effect.h>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace effects
+{
+
+/** \brief `disparity_quantization`: the sensor reports disparity in sub-pixel steps.
+  *
+  * Physics: the Kinect v1 reports disparity as an integer count of 1/8 pixel, so depth comes in
+  * steps of z^2 step_px / (f b) (about 2.9 mm at 1 m, 11.5 mm at 2 m for f = 580 px,
+  * b = 7.5 cm). The paper (Fig. 7) notes that much of the measured noise is of this size.
+  * The simulator rounds the noisy disparity; the step is also written to the recording's
+  * camera.yaml as disparity_subpixel. The term gives the moments of the rounded disparity at
+  * the true depth's sub-step phase (step^2 / 12 where the phase is unknown).
+  */
+struct DisparityQuantization
+{
+  static constexpr const char *kName = "disparity_quantization";
+  static constexpr const char *kSummary = "disparity in sub-pixel steps: depth steps of z^2 step / (f b)";
+  static constexpr const char *kPhysics = "the sensor reports disparity in sub-pixel steps (1/8 px on the Kinect v1): "
+                                          "depth comes in steps of z^2 step / (f b), so SD and mean swing with the "
+                                          "true disparity's sub-step phase";
+  static constexpr const char *kSignature = "phase";
+
+  // --- the simulator -------------------------------------------------------------------------
+
+  struct SimParameters
+  {
+    double step_px = 0.125; ///< disparity step, pixels
+  };
+
+  static std::vector<Field<SimParameters>>
+  simParameters ()
+  {
+    return {{"step_px", "px", "disparity step (camera.yaml disparity_subpixel)", ParameterRange::Positive,
+             &SimParameters::step_px}};
+  }
+
+  static PCL_TEXLET_HD void
+  frameSettings (const SimParameters &p, kernels::SensorFrameSettings &fs)
+  {
+    fs.quantisation_step_px = p.step_px;
+  }
+
+  /** \brief The step is the sensor's: camera.yaml carries it whether or not the frames are rounded. */
+  static void
+  labelCamera (const SimParameters &p, bool /*enabled*/, CameraLabel &label)
+  {
+    label.disparity_step_px = p.step_px;
+  }
+
+  // --- the noise model's term ----------------------------------------------------------------
+
+  static std::vector<TermParameter>
+  termParameters ()
+  {
+    return {{"step_px", 0.0, SimParameters ().step_px, 0.05}};
+  }
+
+  /** \brief The lab starts from the recording's own step (camera.yaml). */
+  static void
+  labStart (const LabStart &facts, double *p, NoSettings &)
+  {
+    p[0] = facts.disparity_step_px > 0 ? facts.disparity_step_px : SimParameters ().step_px;
+  }
+
+  /** \brief Rounding is applied last, to the bias and independent variance of the other terms. */
+  static PCL_TEXLET_HD void
+  transformMoments (const double *p, const NoSettings &, const PixelContext &ctx, double &bias_mm,
+                    double &variance_mm2)
+  {
+    const double step = std::fabs (p[0]);
+    if (!(step > 0))
+      return;
+    const double J = depthPerDisparity (ctx);
+    if (!(J > 0))
+      return;
+    if (!(std::isfinite (ctx.true_depth_mm) && ctx.true_depth_mm > 0))
+    {
+      // The phase of a measured (already quantised) depth says nothing: the phase average.
+      variance_mm2 += J * J * step * step / 12.0;
+      return;
+    }
+    // The disparity before rounding: the true one moved by the other terms' bias.
+    const double d0 = ctx.fb_px_m * 1000.0 / ctx.true_depth_mm - bias_mm / J;
+    double mean_offset = 0, var_px = 0;
+    moments (d0, std::sqrt (variance_mm2) / J, step, mean_offset, var_px);
+    bias_mm -= J * mean_offset;
+    variance_mm2 = J * J * var_px;
+  }
+
+  /** \brief Mean offset and variance (px) of a disparity N(\a d0, \a sigma^2) after the term's
+    * rounding: the model lab evaluates it per pixel, at each pixel's own sub-step phase.
+    */
+  static PCL_TEXLET_HD void
+  roundingMoments (const double *p, const NoSettings &, double d0, double sigma, double &mean_offset,
+                   double &variance)
+  {
+    moments (d0, sigma, std::fabs (p[0]), mean_offset, variance);
+  }
+
+  // --- the moments of a rounded Gaussian -----------------------------------------------------
+
+  /** \brief moments () by summing the levels within 7 SDs of \a d0 (the 2.6e-12 of the
+    * probability beyond is up to 1e-10 of the variance; the cost grows with sigma / step: one
+    * erf per level). For sigma below step / 2.
+    */
+  static PCL_TEXLET_HD void
+  momentsByLevels (double d0, double sigma, double step, double &mean_offset, double &variance)
+  {
+    const double lo = std::floor ((d0 - 7.0 * sigma) / step + 0.5), hi = std::floor ((d0 + 7.0 * sigma) / step + 0.5);
+    const double inv = 1.0 / (sigma * 1.4142135623730951);
+    double s0 = 0, s1 = 0, s2 = 0;
+    // Neighbouring levels share a boundary: one erf per boundary.
+    double erf_below = std::erf (((lo - 0.5) * step - d0) * inv);
+    for (double k = lo; k <= hi; k += 1.0)
+    {
+      // P(level k) = P(d in [(k - 1/2) step, (k + 1/2) step)).
+      const double erf_above = std::erf (((k + 0.5) * step - d0) * inv);
+      const double p = 0.5 * (erf_above - erf_below);
+      erf_below = erf_above;
+      const double x = k * step - d0;
+      s0 += p;
+      s1 += p * x;
+      s2 += p * x * x;
+    }
+    mean_offset = s1 / s0;
+    variance = s2 / s0 - mean_offset * mean_offset;
+    if (variance < 0)
+      variance = 0;
+  }
+
+  /** \brief moments () through the Fourier series of the rounding error (for sigma of step / 2
+    * and more, where three harmonics reach double precision).
+    *
+    * The rounding error e(x) = step round(x / step) - x is a sawtooth of period step:
+    * e = sum_k (-1)^k step / (pi k) sin(k theta(x)), e^2 = step^2 / 12 + sum_k (-1)^k step^2 / (pi k)^2
+    * cos(k theta(x)), theta = 2 pi x / step. Over x ~ N(d0, sigma^2) each harmonic is damped by
+    * g_k = exp(-2 pi^2 k^2 sigma^2 / step^2), and Cov(x, e) = sum_k (-1)^k 2 sigma^2 g_k cos(k theta(d0)).
+    * So the mean offset is E e, and Var(x + e) = sigma^2 + 2 Cov(x, e) + E e^2 - (E e)^2: Sheppard's
+    * sigma^2 + step^2 / 12 plus harmonics that die off as g_1 <= exp(-pi^2 / 2) = 0.0072, with
+    * g_3 <= 5e-20. One exp, one sin and one cos instead of an erf per level.
+    */
+  static PCL_TEXLET_HD void
+  momentsByHarmonics (double d0, double sigma, double step, double &mean_offset, double &variance)
+  {
+    const double kPi = 3.14159265358979323846;
+    // The phase of d0 within its step, in [-1/2, 1/2]: the harmonics' arguments stay small.
+    const double u = d0 / step;
+    const double theta = 2.0 * kPi * (u - std::floor (u + 0.5));
+    const double r = 2.0 * kPi * kPi * sigma * sigma / (step * step);
+    const double s1 = std::sin (theta), c1 = std::cos (theta);
+    double mean = 0, square = step * step / 12.0, cov = 0;
+    double sk = 0, ck = 1; // sin(k theta), cos(k theta) by the angle-addition recurrence
+    double sign = -1;      // (-1)^k
+    // g_k = g_1^(k^2) by products (g_k = g_(k-1) g_1^(2k-1)): one exp, and none in its slow
+    // underflow path (for r beyond 700 every harmonic is below the smallest double anyway).
+    const double g1 = r < 700.0 ? std::exp (-r) : 0.0;
+    double g = 1, odd_power = g1;
+    for (int k = 1; k <= 3; ++k, sign = -sign)
+    {
+      g *= odd_power;
+      odd_power *= g1 * g1;
+      if (!(g > 0))
+        break; // this harmonic and all after it are gone (also for an infinite sigma)
+      const double next_s = sk * c1 + ck * s1, next_c = ck * c1 - sk * s1;
+      sk = next_s;
+      ck = next_c;
+      mean += sign * step / (kPi * k) * g * sk;
+      square += sign * step * step / (kPi * kPi * k * k) * g * ck;
+      cov += sign * 2.0 * sigma * sigma * g * ck;
+    }
+    mean_offset = mean;
+    variance = sigma * sigma + 2.0 * cov + square - mean * mean;
+    if (variance < 0)
+      variance = 0;
+  }
+
+  /** \brief Mean offset and variance (px) of a disparity N(d0, sigma^2) rounded to multiples of
+    * \a step (the sensor's sub-pixel steps).
+    *
+    * Why: when the noise is smaller than a step the reported disparity sticks to the nearest
+    * level, so the SD swings with the sub-step phase of d0 (small on a level, up to step / 2
+    * between two) and the mean follows a staircase; with more noise both tend to Sheppard's
+    * sigma^2 + step^2 / 12 and no bias. Below step / 2 the levels are summed (momentsByLevels),
+    * from there on the series converges in three harmonics (momentsByHarmonics); the two agree
+    * to about 1e-10 where both apply.
+    */
+  static PCL_TEXLET_HD void
+  moments (double d0, double sigma, double step, double &mean_offset, double &variance)
+  {
+    if (!(step > 0))
+    {
+      mean_offset = 0.0;
+      variance = sigma * sigma;
+      return;
+    }
+    if (!(std::fabs (d0 / step) < 4.5e15))
+    {
+      // No level can be told apart (or d0 is not finite): nothing to say.
+      mean_offset = variance = NAN;
+      return;
+    }
+    if (!(sigma > 1e-6 * step))
+    {
+      const double level = step * std::floor (d0 / step + 0.5);
+      mean_offset = level - d0;
+      variance = 0.0;
+      return;
+    }
+    if (sigma < 0.5 * step)
+      momentsByLevels (d0, sigma, step, mean_offset, variance);
+    else
+      momentsByHarmonics (d0, sigma, step, mean_offset, variance);
+  }
+};
+
+} // namespace effects
+} // namespace texlet
+} // namespace pcl
