@@ -1,9 +1,10 @@
 /*
  * The CUDA backend against the CPU path, pcl::TexletEstimation, on a real Kinect frame.
  *
- * Without a device, the host build of frameTexlet (the per-thread code of the GPU kernel) is
- * checked against the CPU path: same texlets for the same seed. With a device, the GPU's own
- * output is, within the issue's tolerances (normals 1e-4 rad, covariances 1e-3 relative).
+ * Without a device, the host build of the GPU's per-thread code (deviceTexlet: the texlet
+ * stages on the device's frame) is checked against the CPU path: the same texlets, byte for
+ * byte, for the same seed. With a device, the GPU's own output is, within the issue's
+ * tolerances (normals 1e-4 rad, covariances 1e-3 relative).
  */
 #include <pcl_texlet/camera/depth_image.h>
 #include <pcl_texlet/gpu/synthetic_frame.h>
@@ -105,7 +106,7 @@ TEST (GpuPclLayoutTest, DeviceTexletBytesAreAPclTexlet)
   // Layout is checked at compile time in texlet_estimation_pcl.h; here the bytes of a texlet
   // written through DeviceTexlet read back as the same pcl::Texlet fields.
   pcl::gpu::DeviceTexlet d;
-  pcl::gpu::failTexlet (1234u, d);
+  pcl::texlet::kernels::writeFailedTexlet (1234u, d);
   d.x = 1.5f;
   d.normal_z = -1.0f;
   d.rgba = 0xff102030u;
@@ -229,6 +230,10 @@ TEST_P (GpuPclMethodsTest, HostBuildOfTheGpuCodeMatchesTheCpuPath)
   ASSERT_EQ (ref.size (), cpu.size ());
   // The same double code compiled twice on the host: nothing should differ.
   expectAgreement (compareTexlets (ref, cpu), cpu.size (), p.uncertainty, 0);
+  std::size_t bytes_differ = 0;
+  for (std::size_t i = 0; i < cpu.size (); ++i)
+    bytes_differ += std::memcmp (&ref[i], &cpu[i], sizeof (pcl::Texlet)) != 0 ? 1 : 0;
+  EXPECT_EQ (bytes_differ, 0u) << "texlets whose bytes differ, of " << cpu.size ();
 }
 
 TEST_P (GpuPclMethodsTest, GpuMatchesTheCpuPath)
