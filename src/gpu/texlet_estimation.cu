@@ -1,5 +1,5 @@
 /*
- * pcl_texlet GPU: the CUDA kernels and pcl::gpu::TexletEstimation's device side.
+ * pcl_texlet GPU: the CUDA kernels and pcl::texlet::gpu::TexletEstimation's device side.
  *
  * Strategy::Thread: one thread per texlet runs the texlet stages (kernels::frameTexlet), the
  * CPU path's code, so both give the same results to rounding. Each thread's disc (x, y, z,
@@ -16,6 +16,8 @@
 #include <stdexcept>
 
 namespace pcl
+{
+namespace texlet
 {
 namespace gpu
 {
@@ -96,7 +98,7 @@ validateParameters (const texlet::TexletParameters &p)
 {
   const std::string problem = texlet::parameterProblem (p);
   if (!problem.empty ())
-    throw std::invalid_argument ("pcl::gpu::TexletEstimation: " + problem);
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation: " + problem);
 }
 
 TexletEstimation::TexletEstimation () = default;
@@ -121,7 +123,7 @@ TexletEstimation::setCamera (const DeviceCamera &c)
   if (!ok)
   {
     std::ostringstream msg;
-    msg << "pcl::gpu::TexletEstimation::setCamera: invalid camera (kind " << static_cast<int> (c.kind) << ", fx " << c.fx
+    msg << "pcl::texlet::gpu::TexletEstimation::setCamera: invalid camera (kind " << static_cast<int> (c.kind) << ", fx " << c.fx
         << ", fy " << c.fy << ", cx " << c.cx << ", cy " << c.cy << ", " << c.width << "x" << c.height
         << "): focal lengths and fields of view must be positive and all values finite";
     throw std::invalid_argument (msg.str ());
@@ -143,7 +145,7 @@ TexletEstimation::setNoise (const DeviceNoise &n)
   if (!ok)
   {
     std::ostringstream msg;
-    msg << "pcl::gpu::TexletEstimation::setNoise: invalid noise model (" << n.terms << " terms, at most "
+    msg << "pcl::texlet::gpu::TexletEstimation::setNoise: invalid noise model (" << n.terms << " terms, at most "
         << DeviceNoise::kMaxTerms << ", floor " << n.min_sigma_mm << " mm): coefficients must be finite, floor > 0";
     throw std::invalid_argument (msg.str ());
   }
@@ -177,9 +179,9 @@ void
 TexletEstimation::backProject (const DeviceArray2D<std::uint16_t> &depth, DeviceArray2D<DevicePoint> &cloud)
 {
   if (depth.empty ())
-    throw std::invalid_argument ("pcl::gpu::TexletEstimation::backProject: the depth image is empty");
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation::backProject: the depth image is empty");
   if (!has_camera_)
-    throw std::invalid_argument ("pcl::gpu::TexletEstimation::backProject: no camera was set (setCamera)");
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation::backProject: no camera was set (setCamera)");
   cloud.create (depth.rows (), depth.cols ());
   const dim3 block (32, 8), grid ((depth.cols () + 31) / 32, (depth.rows () + 7) / 8);
   backProjectKernel<<<grid, block, 0, stream_>>> (depth.ptr (), depth.step (), depth.cols (), depth.rows (), camera_,
@@ -209,12 +211,12 @@ void
 TexletEstimation::compute (const DeviceArray2D<DevicePoint> &cloud, DeviceArray<DeviceTexlet> &output)
 {
   if (cloud.empty ())
-    throw std::invalid_argument ("pcl::gpu::TexletEstimation::compute: the input cloud is empty");
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation::compute: the input cloud is empty");
   if (cloud.rows () < 2)
-    throw std::invalid_argument ("pcl::gpu::TexletEstimation::compute: the input cloud is not organised (one row); "
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation::compute: the input cloud is not organised (one row); "
                                  "texlets need the pixel grid of a depth image");
   if (!has_camera_)
-    throw std::invalid_argument ("pcl::gpu::TexletEstimation::compute: no camera was set (setCamera)");
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation::compute: no camera was set (setCamera)");
   if (precision_ == Precision::Double)
     run<double> (cloud, output);
   else
@@ -238,7 +240,7 @@ TexletEstimation::run (const DeviceArray2D<DevicePoint> &cloud, DeviceArray<Devi
   if (n == 0)
   {
     std::ostringstream msg;
-    msg << "pcl::gpu::TexletEstimation::compute: a " << cloud.cols () << "x" << cloud.rows ()
+    msg << "pcl::texlet::gpu::TexletEstimation::compute: a " << cloud.cols () << "x" << cloud.rows ()
         << " image holds no texlet centre at spacing " << params_.spacing;
     throw std::invalid_argument (msg.str ());
   }
@@ -300,7 +302,7 @@ TexletEstimation::run (const DeviceArray2D<DevicePoint> &cloud, DeviceArray<Devi
     PCL_TEXLET_CUDA_CHECK (cudaMemcpyAsync (&valid_host, valid.ptr (), sizeof valid_host, cudaMemcpyDeviceToHost, stream_));
     PCL_TEXLET_CUDA_CHECK (cudaStreamSynchronize (stream_));
     if (valid_host == 0)
-      throw std::runtime_error ("pcl::gpu::TexletEstimation::compute: the input has no valid point (all depth is "
+      throw std::runtime_error ("pcl::texlet::gpu::TexletEstimation::compute: the input has no valid point (all depth is "
                                 "invalid: NaN, infinite, zero or not in front of the camera)");
   }
 }
@@ -309,4 +311,5 @@ template void TexletEstimation::run<float> (const DeviceArray2D<DevicePoint> &, 
 template void TexletEstimation::run<double> (const DeviceArray2D<DevicePoint> &, DeviceArray<DeviceTexlet> &);
 
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl

@@ -19,6 +19,8 @@
 
 namespace pcl
 {
+namespace texlet
+{
 namespace gpu
 {
 namespace warp
@@ -245,4 +247,5 @@ texletWarpKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexG
 
 } // namespace warp
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl

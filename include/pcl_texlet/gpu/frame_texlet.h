@@ -30,10 +30,10 @@
 
 namespace pcl
 {
+namespace texlet
+{
 namespace gpu
 {
-
-namespace kernels = texlet::kernels;
 
 /** \brief A point of an organised cloud on the device: pcl::PointXYZ's 16 bytes, with the
   * fourth word holding PCL's packed rgba (0 when the cloud has no colour).
@@ -336,4 +336,5 @@ backProjectReference (const std::vector<std::uint16_t> &depth_mm, int width, int
 }
 
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl
