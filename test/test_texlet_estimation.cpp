@@ -418,6 +418,100 @@ TEST (TexletEstimation, BadInputGetsAClearError)
                 pcl::UnorganizedPointCloudException);
 }
 
+TEST (TexletEstimation, NormalsFaceTheSensorOriginUnlessAViewpointIsSet)
+{
+  // A wall 1 m in front of the camera, in a cloud whose sensor origin lies 2 m out, behind the
+  // wall: as in PCL's NormalEstimation the normals face the sensor origin by default.
+  const CameraSpec cam;
+  const Render r = render (tiltedPlane (0, 0, 1.0), cam, nullptr, 0);
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud = r.cloud.makeShared ();
+  cloud->sensor_origin_ = Eigen::Vector4f (0.0f, 0.0f, 2.0f, 0.0f);
+  pcl::TexletEstimation<pcl::PointXYZ> est;
+  est.setCameraModel (std::make_shared<pcl::texlet::PinholeModel> (cam.pinhole ()));
+  est.setUncertaintyMethod (UncertaintyMethod::None);
+  est.setInputCloud (cloud);
+  float vx, vy, vz;
+  est.getViewPoint (vx, vy, vz);
+  EXPECT_EQ (vz, 2.0f);
+  pcl::PointCloud<pcl::Texlet> from_origin, from_camera, again;
+  est.compute (from_origin);
+
+  est.setViewPoint (0, 0, 0); // the camera centre, as the cloud's points are seen from
+  est.getViewPoint (vx, vy, vz);
+  EXPECT_EQ (vz, 0.0f);
+  est.compute (from_camera);
+  ASSERT_EQ (from_origin.size (), from_camera.size ());
+  std::size_t made = 0;
+  for (std::size_t i = 0; i < from_origin.size (); ++i)
+  {
+    const pcl::Texlet &a = from_origin[i], &b = from_camera[i];
+    ASSERT_EQ (a.support, b.support);
+    if (a.support == 0)
+      continue;
+    ++made;
+    EXPECT_GT (a.normal_z, 0.99f) << "texlet " << i;
+    EXPECT_LT (b.normal_z, -0.99f) << "texlet " << i;
+    // The same fit, only turned the other way.
+    EXPECT_EQ (a.normal_x, -b.normal_x);
+    EXPECT_EQ (a.normal_y, -b.normal_y);
+    EXPECT_EQ (a.normal_z, -b.normal_z);
+    EXPECT_EQ (a.x, b.x);
+    EXPECT_EQ (a.z, b.z);
+  }
+  EXPECT_GT (made, from_origin.size () / 2);
+
+  // Back to the sensor origin; setParameters with the viewpoint unchanged keeps it, a new one
+  // counts as set.
+  est.useSensorOriginAsViewPoint ();
+  pcl::texlet::TexletParameters p = est.getParameters ();
+  p.spacing = 8;
+  est.setParameters (p);
+  // Made texlets, and how many of them face +z (the sensor origin) and -z (the camera).
+  const auto facing = [] (const pcl::PointCloud<pcl::Texlet> &c, std::size_t &away, std::size_t &toward) {
+    std::size_t n = 0;
+    away = toward = 0;
+    for (const pcl::Texlet &x : c)
+      if (x.support > 0)
+      {
+        ++n;
+        away += x.normal_z > 0.99f ? 1 : 0;
+        toward += x.normal_z < -0.99f ? 1 : 0;
+      }
+    return n;
+  };
+  std::size_t away, toward;
+  est.compute (again);
+  std::size_t n = facing (again, away, toward);
+  EXPECT_GT (n, 0u);
+  EXPECT_EQ (away, n);
+  p.viewpoint[2] = -1.0f;
+  est.setParameters (p);
+  est.compute (again);
+  n = facing (again, away, toward);
+  EXPECT_GT (n, 0u);
+  EXPECT_EQ (toward, n);
+
+  // The free function faces the parameters' viewpoint.
+  pcl::Texlet t;
+  ASSERT_TRUE (pcl::computeTexlet (*cloud, from_camera[from_camera.size () / 2].pixel_index,
+                                   pcl::texlet::TexletParameters (), cam.pinhole (), pcl::texlet::NoiseModel::paper (),
+                                   t));
+  EXPECT_LT (t.normal_z, -0.99f);
+
+  // A sensor origin that is no point is an error, not a random orientation.
+  cloud->sensor_origin_ = Eigen::Vector4f (0.0f, std::nanf (""), 0.0f, 0.0f);
+  est.useSensorOriginAsViewPoint ();
+  try
+  {
+    est.compute (again);
+    FAIL () << "a NaN sensor origin must be rejected";
+  }
+  catch (const pcl::BadArgumentException &e)
+  {
+    EXPECT_NE (std::string (e.what ()).find ("sensor_origin_"), std::string::npos) << e.what ();
+  }
+}
+
 TEST (TexletEstimation, FreeFunctionMatchesTheClass)
 {
   const CameraSpec cam;
