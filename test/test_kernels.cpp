@@ -4,7 +4,6 @@
 #include <pcl_texlet/kernels/hex_grid.h>
 #include <pcl_texlet/kernels/noise_terms.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
-#include <pcl_texlet/kernels/texlet_stages.h>
 #include <pcl_texlet/kernels/plane_fit.h>
 #include <pcl_texlet/kernels/ransac.h>
 #include <pcl_texlet/kernels/tangent_frame.h>
@@ -12,7 +11,6 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <random>
 #include <set>
 #include <vector>
@@ -29,29 +27,6 @@ axisAngle (const Eigen::Vector3d &a, const Eigen::Vector3d &b)
 {
   return std::atan2 (a.cross (b).norm (), std::fabs (a.dot (b)));
 }
-
-struct Point
-{
-  float x, y, z;
-};
-
-/** The least a frame must answer for the disc stages: a row-major image of points. */
-struct ImageFrame
-{
-  int w, h;
-  std::vector<Point> points;
-
-  int
-  width () const { return w; }
-  int
-  height () const { return h; }
-  const Point &
-  point (int u, int v) const { return points[static_cast<std::size_t> (v) * w + u]; }
-  const Point &
-  point (std::ptrdiff_t index) const { return points[index]; }
-  static bool
-  valid (const Point &p) { return std::isfinite (p.z) && p.z > 0.0f; }
-};
 } // namespace
 
 TEST (HexGrid, CountMatchesEnumerationAndCentresAreInside)
@@ -268,47 +243,6 @@ TEST (PlaneFit, AveragingRecoversAnExactPlane)
   EXPECT_LT (axisAngle (toEigen (out), n), 1e-12);
   use[0] = false;
   EXPECT_FALSE (averagingNormal (ring, use, out));
-}
-
-TEST (PixelDisc, InteriorFastPathGathersWhatTheBoundsCheckedPathGathers)
-{
-  // A 23 x 17 image with holes; every centre, inside and at the borders, both ways.
-  ImageFrame f{23, 17, {}};
-  for (int v = 0; v < f.h; ++v)
-    for (int u = 0; u < f.w; ++u)
-      f.points.push_back ({0.01f * u, 0.01f * v, (u * 7 + v * 3) % 5 == 0 ? NAN : 1.0f + 0.001f * u});
-  const int radius = 4, n = pixelDiscSize (radius);
-  std::vector<int> du (n), dv (n);
-  pixelDiscOffsets (radius, du.data (), dv.data (), n);
-  std::vector<std::ptrdiff_t> linear (n);
-  for (int o = 0; o < n; ++o)
-    linear[o] = static_cast<std::ptrdiff_t> (dv[o]) * f.w + du[o];
-  PixelDisc checked;
-  checked.du = du.data ();
-  checked.dv = dv.data ();
-  checked.size = n;
-  checked.radius = radius;
-  PixelDisc fast = checked;
-  fast.linear = linear.data ();
-  int interior = 0;
-  for (int cv = 0; cv < f.h; ++cv)
-    for (int cu = 0; cu < f.w; ++cu)
-    {
-      std::vector<int> a, b;
-      std::vector<float> za, zb;
-      forEachDiscPoint (f, fast, cu, cv, [&] (const Point &p, int index) {
-        a.push_back (index);
-        za.push_back (p.z);
-      });
-      forEachDiscPoint (f, checked, cu, cv, [&] (const Point &p, int index) {
-        b.push_back (index);
-        zb.push_back (p.z);
-      });
-      ASSERT_EQ (a, b) << "centre " << cu << ", " << cv;
-      ASSERT_EQ (za, zb);
-      interior += cu >= radius && cv >= radius && cu + radius < f.w && cv + radius < f.h;
-    }
-  EXPECT_GT (interior, 100);
 }
 
 TEST (Ransac, OneHypothesisAtATimePicksTheSequentialLoopsPlane)

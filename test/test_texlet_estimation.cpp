@@ -5,8 +5,10 @@
 #include "support/synthetic_scene.h"
 
 #include <pcl_texlet/camera/camera_estimation.h>
-#include <pcl_texlet/kernels/hex_grid.h>
+#include <pcl_texlet/features/cloud_points.h>
 #include <pcl_texlet/features/texlet_estimation.h>
+#include <pcl_texlet/kernels/hex_grid.h>
+#include <pcl_texlet/kernels/pixel_disc.h>
 
 #include <pcl/common/io.h>
 
@@ -96,6 +98,44 @@ TEST (TexletEstimation, OneTexletPerHexCentreWithPixelIndex)
     EXPECT_EQ (out[i].pixel_index, static_cast<std::uint32_t> (v * cam.width + u));
   }
   EXPECT_TRUE (out.is_dense);
+}
+
+TEST (TexletEstimation, InteriorFastPathGathersWhatTheBoundsCheckedPathGathers)
+{
+  // A small cloud with holes; every centre, inside and at the borders, gathered both ways.
+  pcl::PointCloud<pcl::PointXYZ> cloud (23, 17);
+  for (int v = 0; v < 17; ++v)
+    for (int u = 0; u < 23; ++u)
+      cloud (u, v) = pcl::PointXYZ (0.01f * u, 0.01f * v, (u * 7 + v * 3) % 5 == 0 ? NAN : 1.0f + 0.001f * u);
+  const pcl::texlet::detail::CloudPoints<pcl::PointXYZ> frame (cloud);
+  const int radius = 4, n = pcl::texlet::kernels::pixelDiscSize (radius);
+  std::vector<int> du (n), dv (n);
+  pcl::texlet::kernels::pixelDiscOffsets (radius, du.data (), dv.data (), n);
+  std::vector<std::ptrdiff_t> linear (n);
+  for (int o = 0; o < n; ++o)
+    linear[o] = static_cast<std::ptrdiff_t> (dv[o]) * cloud.width + du[o];
+  pcl::texlet::kernels::PixelDisc checked;
+  checked.du = du.data ();
+  checked.dv = dv.data ();
+  checked.size = n;
+  checked.radius = radius;
+  pcl::texlet::kernels::PixelDisc fast = checked;
+  fast.linear = linear.data ();
+  int interior = 0;
+  for (int cv = 0; cv < 17; ++cv)
+    for (int cu = 0; cu < 23; ++cu)
+    {
+      std::vector<int> a, b;
+      pcl::texlet::kernels::forEachDiscPoint (frame, fast, cu, cv,
+                                              [&] (const pcl::PointXYZ &, int index) { a.push_back (index); });
+      pcl::texlet::kernels::forEachDiscPoint (frame, checked, cu, cv,
+                                              [&] (const pcl::PointXYZ &, int index) { b.push_back (index); });
+      ASSERT_EQ (a, b) << "centre " << cu << ", " << cv;
+      for (const int i : a)
+        ASSERT_TRUE (std::isfinite (cloud[i].z));
+      interior += cu >= radius && cv >= radius && cu + radius < 23 && cv + radius < 17;
+    }
+  EXPECT_GT (interior, 100);
 }
 
 TEST (TexletEstimation, PcaMatchesSvdOnPlanesSpheresAndBoxes)

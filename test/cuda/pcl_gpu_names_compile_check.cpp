@@ -10,7 +10,7 @@
 #include <type_traits>
 #include <vector>
 
-// --- a stand-in of PCL's pcl/gpu/containers (device_memory.h, device_array.h) -------------------
+// --- a stand-in of PCL's pcl/gpu/containers/device_array.h: its names, a few members ----------
 namespace pcl
 {
 namespace gpu
@@ -18,69 +18,30 @@ namespace gpu
 class DeviceMemory
 {
 public:
-  DeviceMemory ();
-  explicit DeviceMemory (std::size_t size_bytes);
-  void
-  create (std::size_t size_bytes);
-  void
-  release ();
-  std::size_t
-  sizeBytes () const;
+  std::size_t sizeBytes () const;
 };
 
 class DeviceMemory2D
 {
 public:
-  DeviceMemory2D ();
-  DeviceMemory2D (int rows, int cols_bytes);
-  void
-  create (int rows, int cols_bytes);
-  void
-  release ();
-  std::size_t
-  step () const;
+  std::size_t step () const;
 };
 
 template <class T>
 class DeviceArray : public DeviceMemory
 {
 public:
-  using type = T;
-  enum { elem_size = sizeof (T) };
-  DeviceArray ();
   explicit DeviceArray (std::size_t size);
-  void
-  create (std::size_t size);
-  void
-  upload (const T *host, std::size_t size);
-  void
-  download (T *host) const;
-  template <class A> void
-  upload (const std::vector<T, A> &data);
-  T *
-  ptr ();
-  std::size_t
-  size () const;
+  void upload (const std::vector<T> &host);
+  std::size_t size () const;
 };
 
 template <class T>
 class DeviceArray2D : public DeviceMemory2D
 {
 public:
-  using type = T;
-  enum { elem_size = sizeof (T) };
-  DeviceArray2D ();
   DeviceArray2D (int rows, int cols);
-  void
-  create (int rows, int cols);
-  void
-  upload (const void *host, std::size_t host_step, int rows, int cols);
-  T *
-  ptr (int y = 0);
-  int
-  rows () const;
-  int
-  cols () const;
+  int rows () const;
 };
 } // namespace gpu
 
@@ -111,7 +72,7 @@ pclGpuNamesCompileCheck ()
   using namespace pcl::gpu;
   DeviceArray<int> pcl_array (16);
   DeviceArray2D<unsigned short> pcl_image (480, 640);
-  pcl::device::DeviceArray<float> pcl_device_array;
+  pcl::device::DeviceArray<float> pcl_device_array (8);
 
   pcl::texlet::gpu::TexletEstimation est;
   pcl::texlet::gpu::DeviceArray2D<std::uint16_t> depth;
@@ -122,5 +83,5 @@ pclGpuNamesCompileCheck ()
   est.compute (cloud, out);
   (void) pcl_array.size ();
   (void) pcl_image.rows ();
-  (void) pcl_device_array.ptr ();
+  (void) pcl_device_array.size ();
 }

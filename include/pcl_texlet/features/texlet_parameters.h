@@ -35,14 +35,21 @@ struct TexletParameters
 
 namespace detail
 {
-/** \brief The problem text of a field that breaks a rule: "texlet parameter 'FIELD' RULE (got VALUE)". */
-template <typename T> std::string
-parameterProblem (const char *field, const T &value, const char *rule)
+/** \brief Keeps the first rule broken: "texlet parameter 'FIELD' RULE (got VALUE)". */
+struct ParameterRules
 {
-  std::ostringstream msg;
-  msg << "texlet parameter '" << field << "' " << rule << " (got " << value << ")";
-  return msg.str ();
-}
+  std::string problem;
+
+  template <typename T> void
+  operator() (bool ok, const char *field, const T &value, const char *rule)
+  {
+    if (ok || !problem.empty ())
+      return;
+    std::ostringstream msg;
+    msg << "texlet parameter '" << field << "' " << rule << " (got " << value << ")";
+    problem = msg.str ();
+  }
+};
 } // namespace detail
 
 /** \brief The first field of \a p that breaks a rule, as a sentence naming the field, the rule
@@ -52,36 +59,27 @@ parameterProblem (const char *field, const T &value, const char *rule)
 inline std::string
 parameterProblem (const TexletParameters &p)
 {
-  using detail::parameterProblem;
-  if (!(p.spacing >= 2))
-    return parameterProblem ("spacing", p.spacing, "must be at least 2 pixels (hexagonal rows closer than that collide)");
-  if (!(p.radius >= 1))
-    return parameterProblem ("radius", p.radius, "must be at least 1 pixel");
-  if (!(p.radius <= 64))
-    return parameterProblem ("radius", p.radius, "must be at most 64 pixels");
-  if (!(p.ransac_iterations >= 1))
-    return parameterProblem ("ransac_iterations", p.ransac_iterations, "must be at least 1");
+  detail::ParameterRules require;
+  require (p.spacing >= 2, "spacing", p.spacing, "must be at least 2 pixels (hexagonal rows closer than that collide)");
+  require (p.radius >= 1, "radius", p.radius, "must be at least 1 pixel");
+  require (p.radius <= 64, "radius", p.radius, "must be at most 64 pixels");
+  require (p.ransac_iterations >= 1, "ransac_iterations", p.ransac_iterations, "must be at least 1");
   // Upper bounds: beyond them a frame takes hours, which looks like a hang.
-  if (!(p.ransac_iterations <= 100000))
-    return parameterProblem ("ransac_iterations", p.ransac_iterations, "must be at most 100000");
-  if (!(p.ransac_threshold >= 0.0 && std::isfinite (p.ransac_threshold)))
-    return parameterProblem ("ransac_threshold", p.ransac_threshold,
-                             "must be a finite distance in metres, or 0 for the noise model's");
-  if (!(p.threshold_sigmas > 0.0 && std::isfinite (p.threshold_sigmas)))
-    return parameterProblem ("threshold_sigmas", p.threshold_sigmas, "must be positive");
-  if (!(p.samples >= 2))
-    return parameterProblem ("samples", p.samples, "must be at least 2 for a covariance");
-  if (!(p.samples <= 100000))
-    return parameterProblem ("samples", p.samples, "must be at most 100000");
-  if (!(p.min_support >= 3))
-    return parameterProblem ("min_support", p.min_support, "must be at least 3 points");
-  if (!(std::isfinite (p.viewpoint[0]) && std::isfinite (p.viewpoint[1]) && std::isfinite (p.viewpoint[2])))
-    return parameterProblem ("viewpoint", "non-finite", "must be finite");
-  if (!(static_cast<int> (p.fit) >= 0 && static_cast<int> (p.fit) <= 2))
-    return parameterProblem ("fit", static_cast<int> (p.fit), "must be PCA, SVD or Averaging");
-  if (!(static_cast<int> (p.uncertainty) >= 0 && static_cast<int> (p.uncertainty) <= 2))
-    return parameterProblem ("uncertainty", static_cast<int> (p.uncertainty), "must be None, Analytic or MonteCarlo");
-  return std::string ();
+  require (p.ransac_iterations <= 100000, "ransac_iterations", p.ransac_iterations, "must be at most 100000");
+  require (p.ransac_threshold >= 0.0 && std::isfinite (p.ransac_threshold), "ransac_threshold", p.ransac_threshold,
+           "must be a finite distance in metres, or 0 for the noise model's");
+  require (p.threshold_sigmas > 0.0 && std::isfinite (p.threshold_sigmas), "threshold_sigmas", p.threshold_sigmas,
+           "must be positive");
+  require (p.samples >= 2, "samples", p.samples, "must be at least 2 for a covariance");
+  require (p.samples <= 100000, "samples", p.samples, "must be at most 100000");
+  require (p.min_support >= 3, "min_support", p.min_support, "must be at least 3 points");
+  require (std::isfinite (p.viewpoint[0]) && std::isfinite (p.viewpoint[1]) && std::isfinite (p.viewpoint[2]),
+           "viewpoint", "non-finite", "must be finite");
+  require (static_cast<int> (p.fit) >= 0 && static_cast<int> (p.fit) <= 2, "fit", static_cast<int> (p.fit),
+           "must be PCA, SVD or Averaging");
+  require (static_cast<int> (p.uncertainty) >= 0 && static_cast<int> (p.uncertainty) <= 2, "uncertainty",
+           static_cast<int> (p.uncertainty), "must be None, Analytic or MonteCarlo");
+  return require.problem;
 }
 
 /** \brief Checks every field (parameterProblem()).

@@ -18,6 +18,7 @@
 #include <pcl_texlet/kernels/config.h>
 #include <pcl_texlet/kernels/hex_grid.h>
 #include <pcl_texlet/kernels/noise_terms.h>
+#include <pcl_texlet/kernels/pinhole_ray.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/kernels/plumb_bob.h>
 #include <pcl_texlet/kernels/texlet_stages.h>
@@ -107,10 +108,7 @@ struct DeviceCamera
   }
 
   PCL_TEXLET_HD bool
-  hasDistortion () const
-  {
-    return distortion.k1 != 0 || distortion.k2 != 0 || distortion.p1 != 0 || distortion.p2 != 0 || distortion.k3 != 0;
-  }
+  hasDistortion () const { return kernels::hasDistortion (distortion); }
 
   /** \brief Ray (x, y, 1) through pixel (u, v); NaN where the distortion cannot be inverted. */
   PCL_TEXLET_HD void
@@ -122,15 +120,7 @@ struct DeviceCamera
       y = 2 * (v / height - 0.5) * tan_v;
       return;
     }
-    const double xd = (u - cx) / fx, yd = (v - cy) / fy;
-    if (!hasDistortion ())
-    {
-      x = xd;
-      y = yd;
-      return;
-    }
-    if (!kernels::undistortPlumbBob (distortion, xd, yd, x, y))
-      x = y = NAN;
+    kernels::pinholeRay (fx, fy, cx, cy, distortion, u, v, x, y);
   }
 
   /** \brief Distance of pixel (u, v) from the principal point, pixels (the noise model's r). */
