@@ -3,7 +3,7 @@
  * boxes of the paper's Table 2) for n texlets, on 1 and 2 threads. Items are directed
  * relations, n (n - 1) per run. Texlets are random patches around the paper's box.
  * In builds with CUDA, BM_AllPairRelationsGpu runs the same on the GPU backend
- * (pcl::gpu::accumulateRelations: upload, kernel, download); it reports an error and no time
+ * (pcl::texlet::gpu::accumulateRelations: upload, kernel, download); it reports an error and no time
  * when there is no CUDA device.
  *
  *   build/bench/bench_relations --benchmark_filter='/30000/'
@@ -79,13 +79,15 @@ BM_AllPairRelations (benchmark::State &state)
 void
 BM_AllPairRelationsGpu (benchmark::State &state)
 {
-  if (pcl::gpu::cudaDeviceCount () == 0)
+  if (pcl::texlet::gpu::cudaDeviceCount () == 0)
   {
     state.SkipWithError ("no CUDA device");
     return;
   }
   pcl::texlet::RelationParameters params;
-  params.backend = [] (const auto &in, const auto &config, auto &counts) { pcl::gpu::accumulateRelations (in, config, counts); };
+  params.backend = [] (const auto &in, const auto &config, auto &counts) {
+    pcl::texlet::gpu::accumulateRelations (in, config, counts);
+  };
   timeAllPairRelations (state, static_cast<int> (state.range (0)), params, state.range (1) != 0);
 }
 #endif

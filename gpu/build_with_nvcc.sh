@@ -14,7 +14,7 @@ jobs=()
 "$nvcc" "${flags[@]}" -c src/gpu/texlet_estimation.cu -o "$out/texlet_estimation.o" & jobs+=($!)
 # The relations without FMA contraction: the CPU path's float operations (gpu/CMakeLists.txt).
 "$nvcc" "${flags[@]}" --fmad=false -c src/gpu/texlet_relations.cu -o "$out/texlet_relations.o" & jobs+=($!)
-"$nvcc" "${flags[@]}" -Iapps -c bench/gpu/pcl_texlet_gpu_bench.cu -o "$out/pcl_texlet_gpu_bench.o" & jobs+=($!)
+"$nvcc" "${flags[@]}" -Iapps -Itest -c bench/gpu/pcl_texlet_gpu_bench.cu -o "$out/pcl_texlet_gpu_bench.o" & jobs+=($!)
 gtest=$deps/googletest/googletest
 "$nvcc" -std=c++17 -O2 -I"$gtest/include" -I"$gtest" -c "$gtest/src/gtest-all.cc" -o "$out/gtest-all.o" & jobs+=($!)
 "$nvcc" -std=c++17 -O2 -I"$gtest/include" -c "$gtest/src/gtest_main.cc" -o "$out/gtest_main.o" & jobs+=($!)

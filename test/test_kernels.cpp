@@ -13,6 +13,7 @@
 
 #include <random>
 #include <set>
+#include <vector>
 
 using namespace pcl::texlet::kernels;
 
@@ -242,6 +243,48 @@ TEST (PlaneFit, AveragingRecoversAnExactPlane)
   EXPECT_LT (axisAngle (toEigen (out), n), 1e-12);
   use[0] = false;
   EXPECT_FALSE (averagingNormal (ring, use, out));
+}
+
+TEST (Ransac, OneHypothesisAtATimePicksTheSequentialLoopsPlane)
+{
+  // The GPU's warp strategy tries hypotheses one a lane, counts every point and keeps the first
+  // with the most inliers; the sequential loop stops counting hopeless ones. Same plane.
+  std::mt19937 rng (5);
+  std::uniform_real_distribution<double> u (-0.03, 0.03), noise (-2e-4, 2e-4);
+  for (int trial = 0; trial < 50; ++trial)
+  {
+    std::vector<double> x, y, z;
+    const int n = 40 + trial;
+    for (int i = 0; i < n; ++i)
+    {
+      const double a = u (rng), b = u (rng);
+      x.push_back (a);
+      y.push_back (b);
+      z.push_back (i % 4 == 0 ? 1.02 + 0.3 * b : 1 + 0.2 * a + noise (rng)); // a quarter elsewhere
+    }
+    const double threshold = 3e-4;
+    Plane<double> sequential;
+    const int best = ransacPlane (x.data (), y.data (), z.data (), n, 20, threshold, 7u, 1000u + trial, sequential);
+    int most = 0;
+    Plane<double> first = {{0, 0, 0}, 0};
+    for (int it = 0; it < 20; ++it)
+    {
+      Plane<double> h;
+      if (!ransacHypothesis (x.data (), y.data (), z.data (), n, ransacWords (7u, 1000u + trial, it), h))
+        continue;
+      const int count = countInliers (h, x.data (), y.data (), z.data (), 0, n, threshold);
+      if (count > most)
+      {
+        most = count;
+        first = h;
+      }
+    }
+    ASSERT_EQ (most, best) << "trial " << trial;
+    EXPECT_EQ (first.n.x, sequential.n.x);
+    EXPECT_EQ (first.n.y, sequential.n.y);
+    EXPECT_EQ (first.n.z, sequential.n.z);
+    EXPECT_EQ (first.d, sequential.d);
+  }
 }
 
 TEST (Ransac, FindsThePlaneAmongOutliers)

@@ -334,30 +334,25 @@ TEST (PcaSampler, KernelEqualsTheSampleBySamplePieces)
     double cov_p[6], cov_n[3];
     monteCarloPcaCovariance (patch.nb, mask.data (), m.fit, samples, 3u, 500u + trial, m.N, m.t1, m.t2, cov_p, cov_n);
 
-    const Vec3<double> axes[3] = {m.fit.N, m.fit.e1, m.fit.e2};
-    const double P0b[3] = {dot (axes[0], m.fit.P), dot (axes[1], m.fit.P), dot (axes[2], m.fit.P)};
+    // As the warp strategy spreads them: the sums strided over 32 lanes, one sample a lane.
+    const PcaModelBasis<double> basis = pcaModelBasis (m.fit);
     PcaModelSums<double> sums;
     sums.reset ();
     int n = 0;
-    for (int k = 0; k < patch.nb.count; ++k)
+    for (int lane = 0; lane < 32; ++lane)
     {
-      double q[3], a[3];
-      pcaModelPoint (patch.nb, mask.data (), k, m.fit.P, axes, P0b, q, a);
-      sums.add (q, a);
-      n += mask[k];
+      PcaModelSums<double> lane_sums;
+      lane_sums.reset ();
+      n += addPcaModelPoints (patch.nb, mask.data (), basis, lane, 32, lane_sums);
+      for (int j = 0; j < PcaModelSums<double>::kCount; ++j)
+        sums.v[j] += lane_sums.v[j];
     }
     PcaSampleModel<double> md;
     preparePcaSampleModel (sums, n, m.fit, m.N, m.t1, m.t2, md);
     SampleCovariance<double> acc;
     acc.reset ();
     for (int s = 0; s < samples; ++s)
-    {
-      double z[kPcaSampleNormals], a1, a2;
-      Vec3<double> dP;
-      pcaSampleNormals (3u, 500u + trial, static_cast<std::uint32_t> (s), z);
-      if (pcaSampleRefit (md, z, dP, a1, a2))
-        acc.add (dP, a1, a2);
-    }
+      addPcaSample (md, 3u, 500u + trial, s, acc);
     EXPECT_EQ (acc.n, samples);
     double ref_p[6], ref_n[3];
     acc.finish (ref_p, ref_n);

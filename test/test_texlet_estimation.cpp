@@ -5,8 +5,10 @@
 #include "support/synthetic_scene.h"
 
 #include <pcl_texlet/camera/camera_estimation.h>
-#include <pcl_texlet/kernels/hex_grid.h>
+#include <pcl_texlet/features/cloud_points.h>
 #include <pcl_texlet/features/texlet_estimation.h>
+#include <pcl_texlet/kernels/hex_grid.h>
+#include <pcl_texlet/kernels/pixel_disc.h>
 
 #include <pcl/common/io.h>
 
@@ -96,6 +98,44 @@ TEST (TexletEstimation, OneTexletPerHexCentreWithPixelIndex)
     EXPECT_EQ (out[i].pixel_index, static_cast<std::uint32_t> (v * cam.width + u));
   }
   EXPECT_TRUE (out.is_dense);
+}
+
+TEST (TexletEstimation, InteriorFastPathGathersWhatTheBoundsCheckedPathGathers)
+{
+  // A small cloud with holes; every centre, inside and at the borders, gathered both ways.
+  pcl::PointCloud<pcl::PointXYZ> cloud (23, 17);
+  for (int v = 0; v < 17; ++v)
+    for (int u = 0; u < 23; ++u)
+      cloud (u, v) = pcl::PointXYZ (0.01f * u, 0.01f * v, (u * 7 + v * 3) % 5 == 0 ? NAN : 1.0f + 0.001f * u);
+  const pcl::texlet::detail::CloudPoints<pcl::PointXYZ> frame (cloud);
+  const int radius = 4, n = pcl::texlet::kernels::pixelDiscSize (radius);
+  std::vector<int> du (n), dv (n);
+  pcl::texlet::kernels::pixelDiscOffsets (radius, du.data (), dv.data (), n);
+  std::vector<std::ptrdiff_t> linear (n);
+  for (int o = 0; o < n; ++o)
+    linear[o] = static_cast<std::ptrdiff_t> (dv[o]) * cloud.width + du[o];
+  pcl::texlet::kernels::PixelDisc checked;
+  checked.du = du.data ();
+  checked.dv = dv.data ();
+  checked.size = n;
+  checked.radius = radius;
+  pcl::texlet::kernels::PixelDisc fast = checked;
+  fast.linear = linear.data ();
+  int interior = 0;
+  for (int cv = 0; cv < 17; ++cv)
+    for (int cu = 0; cu < 23; ++cu)
+    {
+      std::vector<int> a, b;
+      pcl::texlet::kernels::forEachDiscPoint (frame, fast, cu, cv,
+                                              [&] (const pcl::PointXYZ &, int index) { a.push_back (index); });
+      pcl::texlet::kernels::forEachDiscPoint (frame, checked, cu, cv,
+                                              [&] (const pcl::PointXYZ &, int index) { b.push_back (index); });
+      ASSERT_EQ (a, b) << "centre " << cu << ", " << cv;
+      for (const int i : a)
+        ASSERT_TRUE (std::isfinite (cloud[i].z));
+      interior += cu >= radius && cv >= radius && cu + radius < 23 && cv + radius < 17;
+    }
+  EXPECT_GT (interior, 100);
 }
 
 TEST (TexletEstimation, PcaMatchesSvdOnPlanesSpheresAndBoxes)
@@ -416,6 +456,100 @@ TEST (TexletEstimation, BadInputGetsAClearError)
                 pcl::BadArgumentException);
   EXPECT_THROW (pcl::computeTexlet (*flat, 0, p, cam.pinhole (), pcl::texlet::NoiseModel::paper (), t),
                 pcl::UnorganizedPointCloudException);
+}
+
+TEST (TexletEstimation, NormalsFaceTheSensorOriginUnlessAViewpointIsSet)
+{
+  // A wall 1 m in front of the camera, in a cloud whose sensor origin lies 2 m out, behind the
+  // wall: as in PCL's NormalEstimation the normals face the sensor origin by default.
+  const CameraSpec cam;
+  const Render r = render (tiltedPlane (0, 0, 1.0), cam, nullptr, 0);
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud = r.cloud.makeShared ();
+  cloud->sensor_origin_ = Eigen::Vector4f (0.0f, 0.0f, 2.0f, 0.0f);
+  pcl::TexletEstimation<pcl::PointXYZ> est;
+  est.setCameraModel (std::make_shared<pcl::texlet::PinholeModel> (cam.pinhole ()));
+  est.setUncertaintyMethod (UncertaintyMethod::None);
+  est.setInputCloud (cloud);
+  float vx, vy, vz;
+  est.getViewPoint (vx, vy, vz);
+  EXPECT_EQ (vz, 2.0f);
+  pcl::PointCloud<pcl::Texlet> from_origin, from_camera, again;
+  est.compute (from_origin);
+
+  est.setViewPoint (0, 0, 0); // the camera centre, as the cloud's points are seen from
+  est.getViewPoint (vx, vy, vz);
+  EXPECT_EQ (vz, 0.0f);
+  est.compute (from_camera);
+  ASSERT_EQ (from_origin.size (), from_camera.size ());
+  std::size_t made = 0;
+  for (std::size_t i = 0; i < from_origin.size (); ++i)
+  {
+    const pcl::Texlet &a = from_origin[i], &b = from_camera[i];
+    ASSERT_EQ (a.support, b.support);
+    if (a.support == 0)
+      continue;
+    ++made;
+    EXPECT_GT (a.normal_z, 0.99f) << "texlet " << i;
+    EXPECT_LT (b.normal_z, -0.99f) << "texlet " << i;
+    // The same fit, only turned the other way.
+    EXPECT_EQ (a.normal_x, -b.normal_x);
+    EXPECT_EQ (a.normal_y, -b.normal_y);
+    EXPECT_EQ (a.normal_z, -b.normal_z);
+    EXPECT_EQ (a.x, b.x);
+    EXPECT_EQ (a.z, b.z);
+  }
+  EXPECT_GT (made, from_origin.size () / 2);
+
+  // Back to the sensor origin; setParameters with the viewpoint unchanged keeps it, a new one
+  // counts as set.
+  est.useSensorOriginAsViewPoint ();
+  pcl::texlet::TexletParameters p = est.getParameters ();
+  p.spacing = 8;
+  est.setParameters (p);
+  // Made texlets, and how many of them face +z (the sensor origin) and -z (the camera).
+  const auto facing = [] (const pcl::PointCloud<pcl::Texlet> &c, std::size_t &away, std::size_t &toward) {
+    std::size_t n = 0;
+    away = toward = 0;
+    for (const pcl::Texlet &x : c)
+      if (x.support > 0)
+      {
+        ++n;
+        away += x.normal_z > 0.99f ? 1 : 0;
+        toward += x.normal_z < -0.99f ? 1 : 0;
+      }
+    return n;
+  };
+  std::size_t away, toward;
+  est.compute (again);
+  std::size_t n = facing (again, away, toward);
+  EXPECT_GT (n, 0u);
+  EXPECT_EQ (away, n);
+  p.viewpoint[2] = -1.0f;
+  est.setParameters (p);
+  est.compute (again);
+  n = facing (again, away, toward);
+  EXPECT_GT (n, 0u);
+  EXPECT_EQ (toward, n);
+
+  // The free function faces the parameters' viewpoint.
+  pcl::Texlet t;
+  ASSERT_TRUE (pcl::computeTexlet (*cloud, from_camera[from_camera.size () / 2].pixel_index,
+                                   pcl::texlet::TexletParameters (), cam.pinhole (), pcl::texlet::NoiseModel::paper (),
+                                   t));
+  EXPECT_LT (t.normal_z, -0.99f);
+
+  // A sensor origin that is no point is an error, not a random orientation.
+  cloud->sensor_origin_ = Eigen::Vector4f (0.0f, std::nanf (""), 0.0f, 0.0f);
+  est.useSensorOriginAsViewPoint ();
+  try
+  {
+    est.compute (again);
+    FAIL () << "a NaN sensor origin must be rejected";
+  }
+  catch (const pcl::BadArgumentException &e)
+  {
+    EXPECT_NE (std::string (e.what ()).find ("sensor_origin_"), std::string::npos) << e.what ();
+  }
 }
 
 TEST (TexletEstimation, FreeFunctionMatchesTheClass)

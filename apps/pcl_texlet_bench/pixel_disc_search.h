@@ -3,16 +3,14 @@
  *
  * PCL's feature estimators find neighbours through a search object. To give
  * pcl::NormalEstimationOMP exactly the points TexletEstimation uses, this search returns, for
- * a query by index, the valid pixels of the disc of `radius` pixels around that pixel: the
- * offsets of kernels::pixelDiscOffsets (the library's own disc), kept where inside the image
- * and isValidDepthPoint (the library's own validity test), in the disc's row-by-row order.
- * That is the set TexletWorker gathers before RANSAC. The k or radius that the estimator
- * passes is ignored: the disc is the neighbourhood.
+ * a query by index, the valid pixels of the disc of `radius` pixels around that pixel, in disc
+ * order: kernels::forEachDiscPoint, the very gather of the texlet stages, before RANSAC. The k
+ * or radius that the estimator passes is ignored: the disc is the neighbourhood.
  */
 #pragma once
 
+#include <pcl_texlet/features/cloud_points.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
-#include <pcl_texlet/camera/valid_point.h>
 
 #include <pcl/exceptions.h>
 #include <pcl/search/search.h>
@@ -65,22 +63,22 @@ public:
   {
     indices.clear ();
     sqr_distances.clear ();
-    const int w = static_cast<int> (cloud.width), h = static_cast<int> (cloud.height);
-    const int cu = static_cast<int> (centre % w), cv = static_cast<int> (centre / w);
+    const pcl::texlet::detail::CloudPoints<PointT> frame (cloud);
+    pcl::texlet::kernels::PixelDisc disc;
+    disc.du = du_.data ();
+    disc.dv = dv_.data ();
+    disc.size = discSize ();
+    disc.radius = radius_;
     const PointT &c = cloud[centre];
-    const bool centre_valid = pcl::texlet::isValidDepthPoint (c);
-    for (std::size_t o = 0; o < du_.size (); ++o)
-    {
-      const int u = cu + du_[o], v = cv + dv_[o];
-      if (u < 0 || v < 0 || u >= w || v >= h)
-        continue;
-      const PointT &p = cloud (u, v);
-      if (!pcl::texlet::isValidDepthPoint (p))
-        continue;
-      indices.push_back (static_cast<pcl::index_t> (v) * w + u);
-      const float dx = p.x - c.x, dy = p.y - c.y, dz = p.z - c.z;
-      sqr_distances.push_back (centre_valid ? dx * dx + dy * dy + dz * dz : 0.0f);
-    }
+    const bool centre_valid = frame.valid (c);
+    const int w = frame.width ();
+    pcl::texlet::kernels::forEachDiscPoint (frame, disc, static_cast<int> (centre % w), static_cast<int> (centre / w),
+                                            [&] (const PointT &p, int index) {
+                                              indices.push_back (index);
+                                              const float dx = p.x - c.x, dy = p.y - c.y, dz = p.z - c.z;
+                                              sqr_distances.push_back (centre_valid ? dx * dx + dy * dy + dz * dz
+                                                                                    : 0.0f);
+                                            });
     return static_cast<int> (indices.size ());
   }
 

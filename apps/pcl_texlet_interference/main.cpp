@@ -125,7 +125,7 @@ checkOptions (Options &o, const CLI::App &app)
   if (o.backend == "gpu")
   {
 #ifdef PCL_TEXLET_INTERFERENCE_WITH_GPU
-    if (pcl::gpu::cudaDeviceCount () == 0)
+    if (pcl::texlet::gpu::cudaDeviceCount () == 0)
       throw InputError ("--backend gpu: the GPU backend is not available: no CUDA device found");
 #else
     throw InputError ("--backend gpu: the GPU backend is not available: this build has no CUDA backend (nvcc was not "
@@ -296,7 +296,9 @@ run (int argc, char **argv)
   rel.threads = o.threads;
 #ifdef PCL_TEXLET_INTERFERENCE_WITH_GPU
   if (o.backend == "gpu")
-    rel.backend = [] (const auto &in, const auto &config, auto &counts) { pcl::gpu::accumulateRelations (in, config, counts); };
+    rel.backend = [] (const auto &in, const auto &config, auto &counts) {
+      pcl::texlet::gpu::accumulateRelations (in, config, counts);
+    };
 #endif
   setup["relation_backend"] = o.backend;
 

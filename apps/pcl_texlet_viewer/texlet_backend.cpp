@@ -15,7 +15,7 @@ bool
 gpuAvailable (std::string &why)
 {
 #ifdef PCL_TEXLET_VIEWER_WITH_GPU
-  if (pcl::gpu::cudaDeviceCount () > 0)
+  if (pcl::texlet::gpu::cudaDeviceCount () > 0)
     return true;
   why = "no CUDA device found";
 #else
@@ -31,10 +31,10 @@ computeTexlets (const Cloud::ConstPtr &cloud, const pcl::texlet::CameraModel::Co
   if (gpu)
   {
 #ifdef PCL_TEXLET_VIEWER_WITH_GPU
-    pcl::gpu::TexletEstimation est;
+    pcl::texlet::gpu::TexletEstimation est;
     est.setParameters (params);
     if (camera)
-      est.setCamera (pcl::gpu::toDeviceCamera (*camera));
+      est.setCamera (pcl::texlet::gpu::toDeviceCamera (*camera));
     est.compute (*cloud, out);
     return;
 #else

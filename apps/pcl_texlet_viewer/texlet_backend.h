@@ -17,9 +17,9 @@ bool
 gpuAvailable (std::string &why);
 
 /** \brief Texlets of an organised cloud, on the CPU (pcl::TexletEstimation) or on the GPU
-  * (pcl::gpu::TexletEstimation: the same kernels and Philox draws, so the same texlets).
+  * (pcl::texlet::gpu::TexletEstimation: the same kernels and Philox draws, so the same texlets).
   * \a camera may be null: a pinhole is then estimated from the cloud, on either backend.
-  * \throws pcl::PCLException for bad input; pcl::gpu::CudaError (std::runtime_error) on the GPU
+  * \throws pcl::PCLException for bad input; pcl::texlet::gpu::CudaError (std::runtime_error) on the GPU
   */
 void
 computeTexlets (const Cloud::ConstPtr &cloud, const pcl::texlet::CameraModel::ConstPtr &camera,

@@ -9,17 +9,17 @@
  * gives the median of the runs after warm-up, as a table and optionally as JSON. Needs CUDA
  * only (no PCL).
  *
- * --relations N times the texlet relations instead (pcl::gpu::accumulateRelations on N noisy
+ * --relations N times the texlet relations instead (gpu::accumulateRelations on N noisy
  * texlets on the paper's box, labelled, the paper's histogram axes and the box's relations):
  * host arrays in, counts out, so uploads and downloads are included.
  */
 #include <pcl_texlet/gpu/containers/device_array.h>
-#include <pcl_texlet/gpu/synthetic_box_texlets.h>
-#include <pcl_texlet/gpu/synthetic_frame.h>
 #include <pcl_texlet/gpu/texlet_estimation.h>
 #include <pcl_texlet/gpu/texlet_relations.h>
 
 #include <common/app_main.h>
+#include <gpu/synthetic_box_texlets.h> // test/gpu: the tests' synthetic scenes
+#include <gpu/synthetic_frame.h>
 
 #include <CLI/CLI.hpp>
 
@@ -36,10 +36,11 @@
 #include <string>
 #include <vector>
 
-using pcl::gpu::DeviceArray;
-using pcl::gpu::DeviceArray2D;
-using pcl::gpu::DeviceTexlet;
-using pcl::gpu::Precision;
+namespace gpu = pcl::texlet::gpu;
+using gpu::DeviceArray;
+using gpu::DeviceArray2D;
+using gpu::DeviceTexlet;
+using gpu::Precision;
 using pcl_texlet_app::InputError;
 
 namespace
@@ -184,8 +185,8 @@ int
 measureRelations (int n, int warmup, int runs)
 {
   namespace kn = pcl::texlet::kernels;
-  const pcl::gpu::BoxTexlets texlets = pcl::gpu::syntheticBoxTexlets (std::max (1, n / 5), 1);
-  const std::vector<kn::RelationBox> boxes = pcl::gpu::syntheticBoxRelations ();
+  const pcl_texlet_test::BoxTexlets texlets = pcl_texlet_test::syntheticBoxTexlets (std::max (1, n / 5), 1);
+  const std::vector<kn::RelationBox> boxes = pcl_texlet_test::syntheticBoxRelations ();
   kn::RelationConfig config; // the paper's axes: 0-300 mm in 2 mm x 0-180 degrees in 1 degree
   config.boxes = boxes.data ();
   config.box_count = static_cast<int> (boxes.size ());
@@ -207,12 +208,12 @@ measureRelations (int n, int warmup, int runs)
     counts.label_pairs = label_pairs.data ();
     counts.label_inliers = label_inliers.data ();
     const auto t0 = std::chrono::steady_clock::now ();
-    pcl::gpu::accumulateRelations (in, config, counts);
+    gpu::accumulateRelations (in, config, counts);
     const float t = std::chrono::duration<float, std::milli> (std::chrono::steady_clock::now () - t0).count ();
     if (k >= warmup)
       ms.push_back (t);
   }
-  const pcl::gpu::RelationLaunch launch = pcl::gpu::relationLaunch (in.count, config);
+  const gpu::RelationLaunch launch = gpu::relationLaunch (in.count, config);
   std::sort (ms.begin (), ms.end ());
   const double median = ms[ms.size () / 2];
   std::cout << "relations of " << in.count << " texlets (" << counts.relations << " directed relations, "
@@ -262,10 +263,10 @@ private:
 };
 
 Result
-measure (const DepthFrame &frame, const pcl::gpu::DeviceCamera &camera, const pcl::texlet::TexletParameters &params,
-         Precision precision, pcl::gpu::Strategy strategy, int warmup, int runs)
+measure (const DepthFrame &frame, const gpu::DeviceCamera &camera, const pcl::texlet::TexletParameters &params,
+         Precision precision, gpu::Strategy strategy, int warmup, int runs)
 {
-  pcl::gpu::TexletEstimation est;
+  gpu::TexletEstimation est;
   est.setStrategy (strategy);
   est.setParameters (params);
   est.setCamera (camera);
@@ -312,7 +313,7 @@ measure (const DepthFrame &frame, const pcl::gpu::DeviceCamera &camera, const pc
   res.fit = fits[static_cast<int> (params.fit)];
   res.uncertainty = uncertainties[static_cast<int> (params.uncertainty)];
   res.precision = precision == Precision::Double ? "double" : "float";
-  res.strategy = est.effectiveStrategy () == pcl::gpu::Strategy::Warp ? "warp" : "thread";
+  res.strategy = est.effectiveStrategy () == gpu::Strategy::Warp ? "warp" : "thread";
   res.texlets = n;
   res.made = est.getMadeCount ();
   res.kernel = stats (kernel);
@@ -400,7 +401,7 @@ run (int argc, char **argv)
     throw InputError ("give either --depth or --dump, not both");
   if (relations > 0)
   {
-    if (pcl::gpu::cudaDeviceCount () == 0)
+    if (gpu::cudaDeviceCount () == 0)
       throw InputError ("no CUDA device found (cudaGetDeviceCount reports none)");
     return measureRelations (relations, warmup, runs);
   }
@@ -412,7 +413,7 @@ run (int argc, char **argv)
     frame = readDepth (depth_path, width, height);
   else
   {
-    pcl::gpu::SyntheticFrame scene;
+    pcl_texlet_test::SyntheticFrame scene;
     frame.width = scene.width;
     frame.height = scene.height;
     frame.depth_mm = scene.render ();
@@ -427,7 +428,7 @@ run (int argc, char **argv)
     writeAtomically (save_path, bytes);
   }
 
-  if (pcl::gpu::cudaDeviceCount () == 0)
+  if (gpu::cudaDeviceCount () == 0)
     throw InputError ("no CUDA device found (cudaGetDeviceCount reports none)");
   cudaDeviceProp prop;
   PCL_TEXLET_CUDA_CHECK (cudaGetDeviceProperties (&prop, 0));
@@ -440,7 +441,7 @@ run (int argc, char **argv)
     cx = 0.5 * (frame.width - 1);
   if (cy < 0)
     cy = 0.5 * (frame.height - 1);
-  const pcl::gpu::DeviceCamera camera = pcl::gpu::DeviceCamera::pinhole (fx, fy, cx, cy);
+  const gpu::DeviceCamera camera = gpu::DeviceCamera::pinhole (fx, fy, cx, cy);
 
   std::vector<Precision> precisions;
   if (precision_name != "float")
@@ -448,16 +449,16 @@ run (int argc, char **argv)
   if (precision_name != "double")
     precisions.push_back (Precision::Float);
 
-  std::vector<pcl::gpu::Strategy> strategies;
+  std::vector<gpu::Strategy> strategies;
   if (strategy_name != "warp")
-    strategies.push_back (pcl::gpu::Strategy::Thread);
+    strategies.push_back (gpu::Strategy::Thread);
   if (strategy_name != "thread")
-    strategies.push_back (pcl::gpu::Strategy::Warp);
+    strategies.push_back (gpu::Strategy::Warp);
 
   std::vector<Result> results;
   for (const int spacing : {6, 2})
     for (const Precision precision : precisions)
-    for (const pcl::gpu::Strategy strategy : strategies)
+    for (const gpu::Strategy strategy : strategies)
     {
       pcl::texlet::TexletParameters p; // Table 1: radius 6, RANSAC 20, Monte Carlo 50
       p.spacing = spacing;
@@ -468,7 +469,7 @@ run (int argc, char **argv)
                       : uncertainty_name == "analytic" ? pcl::texlet::UncertaintyMethod::Analytic
                                                        : pcl::texlet::UncertaintyMethod::MonteCarlo;
       std::cerr << "measuring spacing " << spacing << ", " << (precision == Precision::Double ? "double" : "float")
-                << ", " << (strategy == pcl::gpu::Strategy::Warp ? "warp" : "thread") << " (" << warmup
+                << ", " << (strategy == gpu::Strategy::Warp ? "warp" : "thread") << " (" << warmup
                 << " warm-up + " << runs << " runs)..." << std::endl;
       Result r = measure (frame, camera, p, precision, strategy, warmup, runs);
       r.name = spacing == 6 ? "table1_spacing6" : "spacing2";

@@ -1,14 +1,11 @@
 /*
- * pcl_texlet GPU: the CUDA kernels and pcl::gpu::TexletEstimation's device side.
+ * pcl_texlet GPU: the CUDA kernels and pcl::texlet::gpu::TexletEstimation's device side.
  *
- * One thread per texlet. kernels::computeTexlet is a sequential algorithm over one texlet's
- * points (RANSAC hypotheses, then the fit, then the Monte Carlo re-fits) and the CPU path runs
- * it per texlet; running the same function per thread keeps one implementation of the math
- * and gives the CPU's results to rounding. A warp per texlet would need the kernel split into
- * per-hypothesis and per-sample pieces (see the README's notes on the GPU backend). Each
- * thread's disc (x, y, z, sigma, mask, SVD work) lives in fixed-size local arrays for discs up
- * to kMaxLocalDisc points (radius 10), which the compiler interleaves across the threads of a
- * warp; larger discs use a per-thread slice of a global scratch buffer.
+ * Strategy::Thread: one thread per texlet runs the texlet stages (kernels::frameTexlet), the
+ * CPU path's code, so both give the same results to rounding. Each thread's disc (x, y, z,
+ * sigma, pixel, mask, SVD work) lives in fixed-size local arrays for discs up to 320 points
+ * (radius 10), which the compiler interleaves across the threads of a warp; larger discs use a
+ * per-thread slice of a global scratch buffer. Strategy::Warp: texlet_warp_kernel.cuh.
  */
 #include <pcl_texlet/gpu/texlet_estimation.h>
 
@@ -19,6 +16,8 @@
 #include <stdexcept>
 
 namespace pcl
+{
+namespace texlet
 {
 namespace gpu
 {
@@ -32,23 +31,23 @@ template <typename S> __host__ __device__ std::size_t
 scratchBytes (int disc)
 {
   const std::size_t values = 4 * static_cast<std::size_t> (disc) + kernels::texletWorkSize (disc);
-  const std::size_t b = sizeof (S) * values + static_cast<std::size_t> (disc);
+  const std::size_t b = sizeof (S) * values + (sizeof (int) + 1) * static_cast<std::size_t> (disc);
   return (b + 15) / 16 * 16;
 }
 
 template <typename S>
-__device__ TexletScratch<S>
+__device__ kernels::TexletScratch<S>
 globalScratch (unsigned char *base, int disc, int thread)
 {
   S *p = reinterpret_cast<S *> (base + scratchBytes<S> (disc) * thread);
-  return {p, p + disc, p + 2 * disc, p + 3 * disc, p + 4 * disc,
-          reinterpret_cast<unsigned char *> (p + 4 * disc + kernels::texletWorkSize (disc))};
+  int *pixel = reinterpret_cast<int *> (p + 4 * disc + kernels::texletWorkSize (disc));
+  return {p, p + disc, p + 2 * disc, p + 3 * disc, p + 4 * disc, pixel, reinterpret_cast<unsigned char *> (pixel + disc)};
 }
 
 /** One texlet per thread. Cap > 0: the disc in local arrays of Cap points; 0: global scratch. */
 template <typename S, int Cap>
 __global__ void __launch_bounds__ (kBlock)
-texletKernel (CloudView cloud, FrameTexletContext<S> ctx, kernels::HexGrid grid, unsigned char *scratch,
+texletKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexGrid grid, unsigned char *scratch,
               DeviceTexlet *out, unsigned int *made)
 {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
@@ -61,12 +60,13 @@ texletKernel (CloudView cloud, FrameTexletContext<S> ctx, kernels::HexGrid grid,
   if constexpr (Cap > 0)
   {
     S x[Cap], y[Cap], z[Cap], s[Cap], work[kernels::texletWorkSize (Cap)];
+    int pixel[Cap];
     unsigned char mask[Cap];
-    const TexletScratch<S> ws = {x, y, z, s, work, mask};
-    ok = frameTexlet (cloud, ctx, u, v, ws, t);
+    const kernels::TexletScratch<S> ws = {x, y, z, s, work, pixel, mask};
+    ok = deviceTexlet (frame, fs, u, v, ws, t);
   }
   else
-    ok = frameTexlet (cloud, ctx, u, v, globalScratch<S> (scratch, ctx.disc, i), t);
+    ok = deviceTexlet (frame, fs, u, v, globalScratch<S> (scratch, fs.disc.size, i), t);
   out[i] = t;
   if (ok)
     atomicAdd (made, 1u);
@@ -91,40 +91,14 @@ countValidKernel (CloudView cloud, unsigned int *valid)
     atomicAdd (valid, 1u);
 }
 
-std::string
-invalid (const char *field, double value, const char *rule)
-{
-  std::ostringstream msg;
-  msg << "pcl::gpu::TexletEstimation: parameter " << field << " = " << value << " is invalid (" << rule << ")";
-  return msg.str ();
-}
-
 } // namespace
 
 void
 validateParameters (const texlet::TexletParameters &p)
 {
-  if (p.spacing < 2)
-    throw std::invalid_argument (invalid ("spacing", p.spacing, "must be at least 2 pixels"));
-  if (p.radius < 1)
-    throw std::invalid_argument (invalid ("radius", p.radius, "must be at least 1 pixel"));
-  if (p.ransac_iterations < 1)
-    throw std::invalid_argument (invalid ("ransac_iterations", p.ransac_iterations, "must be at least 1"));
-  if (!(p.ransac_threshold >= 0.0) || !std::isfinite (p.ransac_threshold))
-    throw std::invalid_argument (invalid ("ransac_threshold", p.ransac_threshold, "must be finite and >= 0"));
-  if (!(p.threshold_sigmas > 0.0) || !std::isfinite (p.threshold_sigmas))
-    throw std::invalid_argument (invalid ("threshold_sigmas", p.threshold_sigmas, "must be finite and > 0"));
-  if (static_cast<int> (p.fit) < 0 || static_cast<int> (p.fit) > 2)
-    throw std::invalid_argument (invalid ("fit", static_cast<int> (p.fit), "unknown plane fit method"));
-  if (static_cast<int> (p.uncertainty) < 0 || static_cast<int> (p.uncertainty) > 2)
-    throw std::invalid_argument (invalid ("uncertainty", static_cast<int> (p.uncertainty), "unknown method"));
-  if (p.samples < 2)
-    throw std::invalid_argument (invalid ("samples", p.samples, "must be at least 2"));
-  if (p.min_support < 3)
-    throw std::invalid_argument (invalid ("min_support", p.min_support, "must be at least 3"));
-  for (int i = 0; i < 3; ++i)
-    if (!std::isfinite (p.viewpoint[i]))
-      throw std::invalid_argument (invalid ("viewpoint", p.viewpoint[i], "must be finite"));
+  const std::string problem = texlet::parameterProblem (p);
+  if (!problem.empty ())
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation: " + problem);
 }
 
 TexletEstimation::TexletEstimation () = default;
@@ -149,7 +123,7 @@ TexletEstimation::setCamera (const DeviceCamera &c)
   if (!ok)
   {
     std::ostringstream msg;
-    msg << "pcl::gpu::TexletEstimation::setCamera: invalid camera (kind " << static_cast<int> (c.kind) << ", fx " << c.fx
+    msg << "pcl::texlet::gpu::TexletEstimation::setCamera: invalid camera (kind " << static_cast<int> (c.kind) << ", fx " << c.fx
         << ", fy " << c.fy << ", cx " << c.cx << ", cy " << c.cy << ", " << c.width << "x" << c.height
         << "): focal lengths and fields of view must be positive and all values finite";
     throw std::invalid_argument (msg.str ());
@@ -171,7 +145,7 @@ TexletEstimation::setNoise (const DeviceNoise &n)
   if (!ok)
   {
     std::ostringstream msg;
-    msg << "pcl::gpu::TexletEstimation::setNoise: invalid noise model (" << n.terms << " terms, at most "
+    msg << "pcl::texlet::gpu::TexletEstimation::setNoise: invalid noise model (" << n.terms << " terms, at most "
         << DeviceNoise::kMaxTerms << ", floor " << n.min_sigma_mm << " mm): coefficients must be finite, floor > 0";
     throw std::invalid_argument (msg.str ());
   }
@@ -205,9 +179,9 @@ void
 TexletEstimation::backProject (const DeviceArray2D<std::uint16_t> &depth, DeviceArray2D<DevicePoint> &cloud)
 {
   if (depth.empty ())
-    throw std::invalid_argument ("pcl::gpu::TexletEstimation::backProject: the depth image is empty");
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation::backProject: the depth image is empty");
   if (!has_camera_)
-    throw std::invalid_argument ("pcl::gpu::TexletEstimation::backProject: no camera was set (setCamera)");
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation::backProject: no camera was set (setCamera)");
   cloud.create (depth.rows (), depth.cols ());
   const dim3 block (32, 8), grid ((depth.cols () + 31) / 32, (depth.rows () + 7) / 8);
   backProjectKernel<<<grid, block, 0, stream_>>> (depth.ptr (), depth.step (), depth.cols (), depth.rows (), camera_,
@@ -237,12 +211,12 @@ void
 TexletEstimation::compute (const DeviceArray2D<DevicePoint> &cloud, DeviceArray<DeviceTexlet> &output)
 {
   if (cloud.empty ())
-    throw std::invalid_argument ("pcl::gpu::TexletEstimation::compute: the input cloud is empty");
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation::compute: the input cloud is empty");
   if (cloud.rows () < 2)
-    throw std::invalid_argument ("pcl::gpu::TexletEstimation::compute: the input cloud is not organised (one row); "
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation::compute: the input cloud is not organised (one row); "
                                  "texlets need the pixel grid of a depth image");
   if (!has_camera_)
-    throw std::invalid_argument ("pcl::gpu::TexletEstimation::compute: no camera was set (setCamera)");
+    throw std::invalid_argument ("pcl::texlet::gpu::TexletEstimation::compute: no camera was set (setCamera)");
   if (precision_ == Precision::Double)
     run<double> (cloud, output);
   else
@@ -266,22 +240,24 @@ TexletEstimation::run (const DeviceArray2D<DevicePoint> &cloud, DeviceArray<Devi
   if (n == 0)
   {
     std::ostringstream msg;
-    msg << "pcl::gpu::TexletEstimation::compute: a " << cloud.cols () << "x" << cloud.rows ()
+    msg << "pcl::texlet::gpu::TexletEstimation::compute: a " << cloud.cols () << "x" << cloud.rows ()
         << " image holds no texlet centre at spacing " << params_.spacing;
     throw std::invalid_argument (msg.str ());
   }
   output.create (n);
 
-  FrameTexletContext<S> ctx;
-  ctx.camera = camera_;
-  ctx.noise = noise_;
-  ctx.params = params_;
-  ctx.settings = texletSettings<S> (params_);
-  ctx.disc_du = disc_.ptr ();
-  ctx.disc_dv = disc_.ptr () + disc;
-  ctx.disc = disc;
-  ctx.colour = colour_;
+  kernels::PixelDisc offsets;
+  offsets.du = disc_.ptr ();
+  offsets.dv = disc_.ptr () + disc;
+  offsets.size = disc;
+  offsets.radius = params_.radius;
+  const kernels::FrameSettings<S> fs = texlet::frameSettings<S> (params_, params_.viewpoint, offsets);
   const CloudView view = {cloud.ptr (), cloud.step (), cloud.cols (), cloud.rows ()};
+  DeviceFrame frame;
+  frame.cloud = view;
+  frame.camera = camera_;
+  frame.noise = noise_;
+  frame.colour = colour_;
 
   DeviceArray<unsigned int> &made = made_counter_;
   made.create (1);
@@ -292,21 +268,21 @@ TexletEstimation::run (const DeviceArray2D<DevicePoint> &cloud, DeviceArray<Devi
   {
     const int wblocks = (n + warp::kWarpsPerBlock - 1) / warp::kWarpsPerBlock;
     warp::texletWarpKernel<S><<<wblocks, 32 * warp::kWarpsPerBlock, warp::kWarpsPerBlock * warp::warpBytes<S> (disc),
-                                stream_>>> (view, ctx, grid, output.ptr (), made.ptr ());
+                                stream_>>> (frame, fs, grid, output.ptr (), made.ptr ());
   }
   else if (disc <= 64)
-    texletKernel<S, 64><<<blocks, kBlock, 0, stream_>>> (view, ctx, grid, scratch, output.ptr (), made.ptr ());
+    texletKernel<S, 64><<<blocks, kBlock, 0, stream_>>> (frame, fs, grid, scratch, output.ptr (), made.ptr ());
   else if (disc <= 128)
-    texletKernel<S, 128><<<blocks, kBlock, 0, stream_>>> (view, ctx, grid, scratch, output.ptr (), made.ptr ());
+    texletKernel<S, 128><<<blocks, kBlock, 0, stream_>>> (frame, fs, grid, scratch, output.ptr (), made.ptr ());
   else if (disc <= 320)
-    texletKernel<S, 320><<<blocks, kBlock, 0, stream_>>> (view, ctx, grid, scratch, output.ptr (), made.ptr ());
+    texletKernel<S, 320><<<blocks, kBlock, 0, stream_>>> (frame, fs, grid, scratch, output.ptr (), made.ptr ());
   else
   {
     const std::size_t bytes = scratchBytes<S> (disc) * static_cast<std::size_t> (blocks) * kBlock;
     if (scratch_.size () < bytes)
       scratch_.create (bytes);
     scratch = scratch_.ptr ();
-    texletKernel<S, 0><<<blocks, kBlock, 0, stream_>>> (view, ctx, grid, scratch, output.ptr (), made.ptr ());
+    texletKernel<S, 0><<<blocks, kBlock, 0, stream_>>> (frame, fs, grid, scratch, output.ptr (), made.ptr ());
   }
   PCL_TEXLET_CUDA_CHECK (cudaGetLastError ());
 
@@ -326,7 +302,7 @@ TexletEstimation::run (const DeviceArray2D<DevicePoint> &cloud, DeviceArray<Devi
     PCL_TEXLET_CUDA_CHECK (cudaMemcpyAsync (&valid_host, valid.ptr (), sizeof valid_host, cudaMemcpyDeviceToHost, stream_));
     PCL_TEXLET_CUDA_CHECK (cudaStreamSynchronize (stream_));
     if (valid_host == 0)
-      throw std::runtime_error ("pcl::gpu::TexletEstimation::compute: the input has no valid point (all depth is "
+      throw std::runtime_error ("pcl::texlet::gpu::TexletEstimation::compute: the input has no valid point (all depth is "
                                 "invalid: NaN, infinite, zero or not in front of the camera)");
   }
 }
@@ -335,4 +311,5 @@ template void TexletEstimation::run<float> (const DeviceArray2D<DevicePoint> &, 
 template void TexletEstimation::run<double> (const DeviceArray2D<DevicePoint> &, DeviceArray<DeviceTexlet> &);
 
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl

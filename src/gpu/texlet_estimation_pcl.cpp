@@ -12,6 +12,8 @@
 
 namespace pcl
 {
+namespace texlet
+{
 namespace gpu
 {
 
@@ -22,7 +24,7 @@ toDeviceCamera (const texlet::CameraModel &camera)
     return DeviceCamera::pinhole (p->fx (), p->fy (), p->cx (), p->cy (), p->distortion ());
   if (const auto *o = dynamic_cast<const texlet::OpenNIFovModel *> (&camera))
     return DeviceCamera::openniFov (o->width (), o->height (), o->hfov (), o->vfov ());
-  throw pcl::BadArgumentException ("pcl::gpu::toDeviceCamera: camera model '" + camera.name () +
+  throw pcl::BadArgumentException ("pcl::texlet::gpu::toDeviceCamera: camera model '" + camera.name () +
                                    "' has no device form (only 'pinhole' and 'openni_fov')");
 }
 
@@ -36,12 +38,12 @@ toDeviceNoise (const texlet::NoiseModel &noise)
   {
     const auto *poly = dynamic_cast<const texlet::PolynomialSigmaTerm *> (term.get ());
     if (!poly)
-      throw pcl::BadArgumentException ("pcl::gpu::toDeviceNoise: noise term '" + term->name () +
+      throw pcl::BadArgumentException ("pcl::texlet::gpu::toDeviceNoise: noise term '" + term->name () +
                                        "' has no device form (only 'polynomial' terms)");
     if (d.terms == DeviceNoise::kMaxTerms)
     {
       std::ostringstream msg;
-      msg << "pcl::gpu::toDeviceNoise: the noise model has " << noise.terms ().size () << " terms; the device takes at most "
+      msg << "pcl::texlet::gpu::toDeviceNoise: the noise model has " << noise.terms ().size () << " terms; the device takes at most "
           << DeviceNoise::kMaxTerms;
       throw pcl::BadArgumentException (msg.str ());
     }
@@ -51,4 +53,5 @@ toDeviceNoise (const texlet::NoiseModel &noise)
 }
 
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl

@@ -23,6 +23,8 @@
 
 namespace pcl
 {
+namespace texlet
+{
 namespace gpu
 {
 
@@ -155,13 +157,13 @@ checkConfig (const kn::RelationConfig &config)
   const kn::HistogramAxes &a = config.axes;
   if (!(a.distance_max > 0.0f) || a.distance_bins < 1 || a.angle_bins < 1 || a.distance_bins > 100000 ||
       a.angle_bins > 100000)
-    throw std::invalid_argument ("pcl::gpu::accumulateRelations: the histogram needs a positive distance range and "
+    throw std::invalid_argument ("pcl::texlet::gpu::accumulateRelations: the histogram needs a positive distance range and "
                                  "1 to 100000 bins per axis");
   if (config.box_count < 0 || config.box_count > kn::kMaxRelationBoxes || (config.box_count > 0 && !config.boxes))
-    throw std::invalid_argument ("pcl::gpu::accumulateRelations: " + std::to_string (config.box_count) +
+    throw std::invalid_argument ("pcl::texlet::gpu::accumulateRelations: " + std::to_string (config.box_count) +
                                  " expected relations (0 to " + std::to_string (kn::kMaxRelationBoxes) + ", with boxes)");
   if (config.label_count < 0 || config.label_count > 4096)
-    throw std::invalid_argument ("pcl::gpu::accumulateRelations: label_count " + std::to_string (config.label_count) +
+    throw std::invalid_argument ("pcl::texlet::gpu::accumulateRelations: label_count " + std::to_string (config.label_count) +
                                  " (0 to 4096)");
 }
 
@@ -214,14 +216,14 @@ accumulateRelations (const kn::RelationInput<float> &in, const kn::RelationConfi
 {
   checkConfig (config);
   if (in.count < 0 || (in.count > 0 && (!in.centre || !in.normal)))
-    throw std::invalid_argument ("pcl::gpu::accumulateRelations: no centre or normal array for " +
+    throw std::invalid_argument ("pcl::texlet::gpu::accumulateRelations: no centre or normal array for " +
                                  std::to_string (in.count) + " texlets");
   const int labels = in.label ? config.label_count : 0;
   const std::size_t bins = static_cast<std::size_t> (config.axes.distance_bins) * config.axes.angle_bins;
   const std::size_t cells = static_cast<std::size_t> (labels) * labels;
   if (!counts.histogram || (config.box_count > 0 && !counts.box_hits) ||
       (cells > 0 && (!counts.label_pairs || !counts.label_inliers)))
-    throw std::invalid_argument ("pcl::gpu::accumulateRelations: the counts' arrays are missing");
+    throw std::invalid_argument ("pcl::texlet::gpu::accumulateRelations: the counts' arrays are missing");
   if (cudaDeviceCount () == 0)
     throw CudaError (cudaErrorNoDevice, "cudaGetDeviceCount", __FILE__, __LINE__);
 
@@ -285,4 +287,5 @@ accumulateRelations (const kn::RelationInput<float> &in, const kn::RelationConfi
 }
 
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl

@@ -1,6 +1,6 @@
 // Uses the installed CUDA backend (pcl_texlet::pcl_texlet_gpu_pcl), from C++ alone: with a CUDA
 // device, the GPU's texlets of a synthetic frontal wall must face the camera, as the CPU's do;
-// without one, compute () must throw pcl::gpu::CudaError naming the failed call.
+// without one, compute () must throw pcl::texlet::gpu::CudaError naming the failed call.
 #include <pcl_texlet/camera/camera_estimation.h>
 #include <pcl_texlet/gpu/texlet_estimation_pcl.h>
 
@@ -14,16 +14,16 @@ main ()
   for (int v = 0; v < 48; ++v)
     for (int u = 0; u < 64; ++u)
       cloud (u, v) = pcl::PointXYZ ((u - 31.5f) / 60.0f, (v - 23.5f) / 60.0f, 1.0f);
-  pcl::gpu::TexletEstimation est;
-  est.setCamera (pcl::gpu::toDeviceCamera (pcl::texlet::estimatePinholeModel (cloud)));
+  pcl::texlet::gpu::TexletEstimation est;
+  est.setCamera (pcl::texlet::gpu::toDeviceCamera (pcl::texlet::estimatePinholeModel (cloud)));
   pcl::PointCloud<pcl::Texlet> texlets;
-  if (pcl::gpu::cudaDeviceCount () == 0)
+  if (pcl::texlet::gpu::cudaDeviceCount () == 0)
   {
     try
     {
       est.compute (cloud, texlets);
     }
-    catch (const pcl::gpu::CudaError &e)
+    catch (const pcl::texlet::gpu::CudaError &e)
     {
       std::cout << "consumer_gpu: no CUDA device; compute () threw: " << e.what () << std::endl;
       return 0;

@@ -1,19 +1,19 @@
 /*
- * pcl::gpu::accumulateRelations against the CPU path's own kernel (kernels::accumulateRelationRow
+ * gpu::accumulateRelations against the CPU path's own kernel (kernels::accumulateRelationRow
  * over every row, as pcl::texlet::accumulateRelations runs it), without PCL: this test builds
  * on the device machine with CUDA alone (gpu/build_with_nvcc.sh). Texlets are noisy patches on
  * the faces of the paper's Table 2 box (128 x 112 x 240 mm), labelled by face, with the box's
- * expected relations as inlier boxes (gpu/synthetic_box_texlets.h). Without a CUDA device the comparisons skip.
+ * expected relations as inlier boxes (test/gpu/synthetic_box_texlets.h). Without a CUDA device the comparisons skip.
  *
  * Distances agree exactly (both sides the same float operations, --fmad=false); the angle's
  * acosf may differ by an ulp between CUDA and the host, so relations whose angle lies within
  * 1e-4 degrees of a bin or box edge are counted on the host and bound the differences.
  */
 #include <pcl_texlet/gpu/containers/cuda_error.h>
-#include <pcl_texlet/gpu/synthetic_box_texlets.h>
 #include <pcl_texlet/gpu/texlet_relations.h>
 #include <pcl_texlet/kernels/relation_histogram.h>
 
+#include "gpu/synthetic_box_texlets.h"
 #include "relation_compare.h"
 
 #include <gtest/gtest.h>
@@ -21,23 +21,24 @@
 #include <cmath>
 #include <vector>
 
+namespace gpu = pcl::texlet::gpu;
 namespace kn = pcl::texlet::kernels;
 
 namespace
 {
 
-using Texlets = pcl::gpu::BoxTexlets;
+using Texlets = pcl_texlet_test::BoxTexlets;
 
 Texlets
 boxTexlets (int per_face, std::uint32_t seed)
 {
-  return pcl::gpu::syntheticBoxTexlets (per_face, seed);
+  return pcl_texlet_test::syntheticBoxTexlets (per_face, seed);
 }
 
 std::vector<kn::RelationBox>
 boxRelations ()
 {
-  return pcl::gpu::syntheticBoxRelations ();
+  return pcl_texlet_test::syntheticBoxRelations ();
 }
 
 struct Counts
@@ -71,7 +72,7 @@ compareWithCpu (const Texlets &t, bool labelled, const kn::HistogramAxes &axes)
   Counts cpu (config), gpu (config);
   for (int i = 0; i < in.count; ++i)
     kn::accumulateRelationRow (i, in, config, cpu.c);
-  pcl::gpu::accumulateRelations (in, config, gpu.c);
+  gpu::accumulateRelations (in, config, gpu.c);
   const std::uint64_t edge = pcl_texlet_test::borderlineRelations (in, config);
 
   EXPECT_EQ (gpu.c.relations, cpu.c.relations);
@@ -92,7 +93,7 @@ protected:
   void
   SetUp () override
   {
-    if (pcl::gpu::cudaDeviceCount () == 0)
+    if (gpu::cudaDeviceCount () == 0)
       GTEST_SKIP () << "no CUDA device: the GPU relations were compiled but are not run here";
   }
 };
@@ -105,7 +106,7 @@ TEST_F (GpuRelationKernels, SharedMemoryHistogramMatchesTheCpuKernel)
   kn::HistogramAxes axes; // 150 x 180 bins: the paper's, in shared memory
   kn::RelationConfig config;
   config.axes = axes;
-  EXPECT_TRUE (pcl::gpu::relationLaunch (3000, config).shared_histogram);
+  EXPECT_TRUE (gpu::relationLaunch (3000, config).shared_histogram);
   compareWithCpu (t, true, axes);
   compareWithCpu (t, false, axes);
 }
@@ -116,7 +117,7 @@ TEST_F (GpuRelationKernels, GlobalAtomicsHistogramMatchesTheCpuKernel)
   axes.distance_bins = 20000; // 3.6 million bins: beyond shared memory
   kn::RelationConfig config;
   config.axes = axes;
-  EXPECT_FALSE (pcl::gpu::relationLaunch (3000, config).shared_histogram);
+  EXPECT_FALSE (gpu::relationLaunch (3000, config).shared_histogram);
   compareWithCpu (boxTexlets (300, 2), true, axes);
 }
 
@@ -124,7 +125,7 @@ TEST_F (GpuRelationKernels, ManyRowsPerBlockStayBelowTheCounterLimit)
 {
   // The grid grows with n so that no block's 32-bit counters can overflow.
   kn::RelationConfig config;
-  const auto launch = pcl::gpu::relationLaunch (2000000, config);
+  const auto launch = gpu::relationLaunch (2000000, config);
   const long long rows = (2000000ll + launch.blocks - 1) / launch.blocks;
   EXPECT_LT (rows * 2 * 2000000ll, 1ll << 31);
 }
@@ -135,25 +136,25 @@ TEST (GpuRelationKernelsInput, BadConfigurationIsRefused)
   kn::RelationConfig config;
   Counts counts (config);
   config.axes.distance_bins = 0;
-  EXPECT_THROW (pcl::gpu::accumulateRelations (t.input (false), config, counts.c), std::invalid_argument);
+  EXPECT_THROW (gpu::accumulateRelations (t.input (false), config, counts.c), std::invalid_argument);
   config.axes.distance_bins = 150;
   config.box_count = kn::kMaxRelationBoxes + 1;
-  EXPECT_THROW (pcl::gpu::accumulateRelations (t.input (false), config, counts.c), std::invalid_argument);
+  EXPECT_THROW (gpu::accumulateRelations (t.input (false), config, counts.c), std::invalid_argument);
 }
 
 TEST (GpuRelationKernelsInput, WithoutADeviceItSaysSo)
 {
-  if (pcl::gpu::cudaDeviceCount () > 0)
+  if (gpu::cudaDeviceCount () > 0)
     GTEST_SKIP () << "a CUDA device is present";
   const Texlets t = boxTexlets (10, 4);
   kn::RelationConfig config;
   Counts counts (config);
   try
   {
-    pcl::gpu::accumulateRelations (t.input (false), config, counts.c);
+    gpu::accumulateRelations (t.input (false), config, counts.c);
     FAIL () << "no exception without a device";
   }
-  catch (const pcl::gpu::CudaError &e)
+  catch (const gpu::CudaError &e)
   {
     EXPECT_EQ (e.code (), cudaErrorNoDevice);
     EXPECT_NE (std::string (e.what ()).find ("no CUDA-capable device"), std::string::npos) << e.what ();

@@ -1,5 +1,5 @@
 /*
- * The CUDA backend of the texlet relations (pcl::gpu::accumulateRelations) against the CPU
+ * The CUDA backend of the texlet relations (gpu::accumulateRelations) against the CPU
  * path (pcl::texlet::accumulateRelations, OpenMP), bin for bin, on texlets of the simulated
  * interference setup (three sensors around the paper's box). Without a CUDA device the
  * comparisons skip, and the backend is checked to refuse with a CudaError.
@@ -49,7 +49,7 @@ compare (const pcl::PointCloud<pcl::Texlet> &texlets, const KnownObject &object,
   params.backend = [&c] (const kn::RelationInput<float> &in, const kn::RelationConfig &config,
                          kn::RelationCounts<std::uint64_t> &counts) {
     c.borderline = borderlineRelations (in, config);
-    pcl::gpu::accumulateRelations (in, config, counts);
+    gpu::accumulateRelations (in, config, counts);
   };
   c.gpu = accumulateRelations (texlets, object, params, labels);
   return c;
@@ -84,7 +84,7 @@ protected:
   static void
   SetUpTestSuite ()
   {
-    if (pcl::gpu::cudaDeviceCount () == 0)
+    if (gpu::cudaDeviceCount () == 0)
       return;
     SimulatedSetup setup;
     setup.width = 320;
@@ -106,7 +106,7 @@ protected:
   void
   SetUp () override
   {
-    if (pcl::gpu::cudaDeviceCount () == 0)
+    if (gpu::cudaDeviceCount () == 0)
       GTEST_SKIP () << "no CUDA device: the GPU relations were compiled but are not run here";
   }
 
@@ -124,7 +124,7 @@ TEST_F (GpuRelations, HistogramMatchesTheCpuBinForBinOnSimulatedTexlets)
 {
   ASSERT_GT (texlets_->size (), 2000u);
   const RelationParameters params; // the paper's axes: 2 mm x 1 degree bins, in shared memory
-  const auto launch = pcl::gpu::relationLaunch (static_cast<int> (texlets_->size ()), kn::RelationConfig ());
+  const auto launch = gpu::relationLaunch (static_cast<int> (texlets_->size ()), kn::RelationConfig ());
   EXPECT_TRUE (launch.shared_histogram);
   const Comparison c = compare (*texlets_, *object_, params, *labels_);
   expectSameCounts (c);
@@ -146,7 +146,7 @@ TEST_F (GpuRelations, HistogramTooBigForSharedMemoryUsesGlobalAtomics)
   params.axes.distance_bins = 20000; // 20000 x 180 bins: 14 MB, beyond any block's shared memory
   kn::RelationConfig config;
   config.axes = params.axes;
-  EXPECT_FALSE (pcl::gpu::relationLaunch (1000, config).shared_histogram);
+  EXPECT_FALSE (gpu::relationLaunch (1000, config).shared_histogram);
   expectSameCounts (compare (*texlets_, *object_, params, *labels_));
 }
 
@@ -164,7 +164,7 @@ TEST_F (GpuRelations, FewAndNoTexlets)
 
 TEST (GpuRelationsWithoutDevice, TheBackendSaysThereIsNoDevice)
 {
-  if (pcl::gpu::cudaDeviceCount () > 0)
+  if (gpu::cudaDeviceCount () > 0)
     GTEST_SKIP () << "a CUDA device is present";
   pcl::PointCloud<pcl::Texlet> texlets;
   pcl::Texlet t;
@@ -177,13 +177,15 @@ TEST (GpuRelationsWithoutDevice, TheBackendSaysThereIsNoDevice)
   t.z = 1.1f;
   texlets.push_back (t);
   RelationParameters params;
-  params.backend = [] (const auto &in, const auto &config, auto &counts) { pcl::gpu::accumulateRelations (in, config, counts); };
+  params.backend = [] (const auto &in, const auto &config, auto &counts) {
+    gpu::accumulateRelations (in, config, counts);
+  };
   try
   {
     accumulateRelations (texlets, paperBoxObject (), params);
     FAIL () << "no exception without a device";
   }
-  catch (const pcl::gpu::CudaError &e)
+  catch (const gpu::CudaError &e)
   {
     EXPECT_NE (std::string (e.what ()).find ("no CUDA-capable device"), std::string::npos) << e.what ();
   }

@@ -1,13 +1,13 @@
 /*
  * Tests of the CUDA backend that need no PCL: containers, errors, back-projection, and the
- * GPU's texlets against frameTexlet run on the host (the same code the CPU path's steps are
- * repeated in; test_gpu_texlets_pcl checks it against pcl::TexletEstimation itself). Tests
- * that need a device skip with a message when cudaGetDeviceCount reports none.
+ * GPU's texlets against computeTexletsReference (the texlet stages the CPU path runs, on the
+ * device's frame, on the host; test_gpu_texlets_pcl checks it against pcl::TexletEstimation
+ * itself). Tests that need a device skip with a message when cudaGetDeviceCount reports none.
  */
 #include <pcl_texlet/gpu/containers/device_array.h>
-#include <pcl_texlet/gpu/synthetic_frame.h>
 #include <pcl_texlet/gpu/texlet_estimation.h>
 
+#include "gpu/synthetic_frame.h"
 #include "gpu/texlet_compare.h"
 
 #include <gtest/gtest.h>
@@ -20,13 +20,14 @@
 #include <tuple>
 #include <vector>
 
-using pcl::gpu::DeviceArray;
-using pcl::gpu::DeviceArray2D;
-using pcl::gpu::DeviceCamera;
-using pcl::gpu::DeviceNoise;
-using pcl::gpu::DevicePoint;
-using pcl::gpu::DeviceTexlet;
-using pcl::gpu::Precision;
+namespace gpu = pcl::texlet::gpu;
+using gpu::DeviceArray;
+using gpu::DeviceArray2D;
+using gpu::DeviceCamera;
+using gpu::DeviceNoise;
+using gpu::DevicePoint;
+using gpu::DeviceTexlet;
+using gpu::Precision;
 using pcl::texlet::PlaneFitMethod;
 using pcl::texlet::TexletParameters;
 using pcl::texlet::UncertaintyMethod;
@@ -35,7 +36,7 @@ using pcl_texlet_test::compareTexlets;
 #define REQUIRE_CUDA_DEVICE()                                                                                      \
   do                                                                                                               \
   {                                                                                                                \
-    if (pcl::gpu::cudaDeviceCount () == 0)                                                                         \
+    if (gpu::cudaDeviceCount () == 0)                                                                         \
       GTEST_SKIP () << "no CUDA device (cudaGetDeviceCount reports none): the GPU backend is compiled but not run"; \
   } while (0)
 
@@ -45,7 +46,7 @@ namespace
 /** The synthetic frame as depth and as the host reference cloud. */
 struct Frame
 {
-  pcl::gpu::SyntheticFrame scene;
+  pcl_texlet_test::SyntheticFrame scene;
   std::vector<std::uint16_t> depth;
   std::vector<DevicePoint> cloud;
 
@@ -55,15 +56,15 @@ struct Frame
     scene.height = height;
     scene.camera = DeviceCamera::pinhole (290.0, 290.0, 159.5, 119.5);
     depth = scene.render ();
-    pcl::gpu::backProjectReference (depth, width, height, scene.camera, cloud);
+    gpu::backProjectReference (depth, width, height, scene.camera, cloud);
   }
 };
 
 std::vector<DeviceTexlet>
 gpuTexlets (const Frame &f, const TexletParameters &params, Precision precision,
-            pcl::gpu::Strategy strategy = pcl::gpu::Strategy::Thread)
+            gpu::Strategy strategy = gpu::Strategy::Thread)
 {
-  pcl::gpu::TexletEstimation est;
+  gpu::TexletEstimation est;
   est.setStrategy (strategy);
   est.setParameters (params);
   est.setCamera (f.scene.camera);
@@ -73,7 +74,7 @@ gpuTexlets (const Frame &f, const TexletParameters &params, Precision precision,
   DeviceArray<DeviceTexlet> out;
   est.compute (depth, out);
   std::vector<DeviceTexlet> host;
-  pcl::gpu::downloadTexlets (out, host);
+  gpu::downloadTexlets (out, host);
   return host;
 }
 
@@ -82,16 +83,16 @@ hostTexlets (const Frame &f, const TexletParameters &params, Precision precision
 {
   std::vector<DeviceTexlet> out;
   if (precision == Precision::Double)
-    pcl::gpu::computeTexletsReference<double> (f.cloud, f.scene.width, f.scene.height, f.scene.camera, DeviceNoise (),
+    gpu::computeTexletsReference<double> (f.cloud, f.scene.width, f.scene.height, f.scene.camera, DeviceNoise (),
                                                params, false, out);
   else
-    pcl::gpu::computeTexletsReference<float> (f.cloud, f.scene.width, f.scene.height, f.scene.camera, DeviceNoise (),
+    gpu::computeTexletsReference<float> (f.cloud, f.scene.width, f.scene.height, f.scene.camera, DeviceNoise (),
                                               params, false, out);
   return out;
 }
 
 double
-angleToWall (const pcl::gpu::SyntheticFrame &scene, const DeviceTexlet &t)
+angleToWall (const pcl_texlet_test::SyntheticFrame &scene, const DeviceTexlet &t)
 {
   double n[3], d;
   scene.wall (n, d);
@@ -107,10 +108,10 @@ TEST (CudaErrorTest, NamesTheCallAndCudasMessage)
 {
   try
   {
-    pcl::gpu::detail::cudaCheck (cudaErrorInvalidValue, "cudaMemcpy (dst, src, n, kind)", "file.cu", 42);
+    gpu::detail::cudaCheck (cudaErrorInvalidValue, "cudaMemcpy (dst, src, n, kind)", "file.cu", 42);
     FAIL () << "no exception";
   }
-  catch (const pcl::gpu::CudaError &e)
+  catch (const gpu::CudaError &e)
   {
     const std::string what = e.what ();
     EXPECT_NE (what.find ("cudaMemcpy (dst, src, n, kind) failed"), std::string::npos) << what;
@@ -122,7 +123,7 @@ TEST (CudaErrorTest, NamesTheCallAndCudasMessage)
 
 TEST (GpuParametersTest, BadValuesAreRejectedByName)
 {
-  pcl::gpu::TexletEstimation est;
+  gpu::TexletEstimation est;
   const auto expectRejected = [&] (TexletParameters p, const std::string &field) {
     try
     {
@@ -163,25 +164,25 @@ TEST (GpuParametersTest, BadValuesAreRejectedByName)
 
 TEST (GpuParametersTest, WarpStrategyFallsBackWhereItCannotRun)
 {
-  pcl::gpu::TexletEstimation est;
-  EXPECT_EQ (est.effectiveStrategy (), pcl::gpu::Strategy::Thread); // the default
-  est.setStrategy (pcl::gpu::Strategy::Warp);
-  EXPECT_EQ (est.effectiveStrategy (), pcl::gpu::Strategy::Warp); // Table 1: PCA, radius 6
+  gpu::TexletEstimation est;
+  EXPECT_EQ (est.effectiveStrategy (), gpu::Strategy::Thread); // the default
+  est.setStrategy (gpu::Strategy::Warp);
+  EXPECT_EQ (est.effectiveStrategy (), gpu::Strategy::Warp); // Table 1: PCA, radius 6
   TexletParameters p;
   p.fit = PlaneFitMethod::SVD; // needs a work buffer per sample: one thread per texlet
   est.setParameters (p);
-  EXPECT_EQ (est.effectiveStrategy (), pcl::gpu::Strategy::Thread);
+  EXPECT_EQ (est.effectiveStrategy (), gpu::Strategy::Thread);
   p.fit = PlaneFitMethod::Averaging;
-  p.radius = 12; // 441 points x 33 bytes x 4 warps: more than 48 KiB of shared memory
+  p.radius = 12; // 441 points x 37 bytes x 4 warps: more than 48 KiB of shared memory
   est.setParameters (p);
-  EXPECT_EQ (est.effectiveStrategy (), pcl::gpu::Strategy::Thread);
-  est.setPrecision (Precision::Float); // 441 x 17 x 4 fits
-  EXPECT_EQ (est.effectiveStrategy (), pcl::gpu::Strategy::Warp);
+  EXPECT_EQ (est.effectiveStrategy (), gpu::Strategy::Thread);
+  est.setPrecision (Precision::Float); // 441 x 21 x 4 fits
+  EXPECT_EQ (est.effectiveStrategy (), gpu::Strategy::Warp);
 }
 
 TEST (GpuParametersTest, ComputeWithoutCameraOrInputIsAnError)
 {
-  pcl::gpu::TexletEstimation est;
+  gpu::TexletEstimation est;
   DeviceArray2D<DevicePoint> empty;
   DeviceArray<DeviceTexlet> out;
   EXPECT_THROW (est.compute (empty, out), std::invalid_argument);
@@ -240,7 +241,7 @@ TEST (DeviceArrayTest, FailedAllocationNamesTheCall)
     DeviceArray<double> huge (std::size_t (1) << 50); // 8 PiB
     FAIL () << "allocated 8 PiB";
   }
-  catch (const pcl::gpu::CudaError &e)
+  catch (const gpu::CudaError &e)
   {
     EXPECT_NE (std::string (e.what ()).find ("cudaMalloc"), std::string::npos) << e.what ();
     EXPECT_EQ (e.code (), cudaErrorMemoryAllocation);
@@ -279,7 +280,7 @@ TEST (GpuTexletEstimationTest, BackProjectionMatchesTheHost)
         DeviceCamera::openniFov (320, 240, 1.0226, 0.7963)})
   {
     Frame f;
-    pcl::gpu::TexletEstimation est;
+    gpu::TexletEstimation est;
     est.setCamera (camera);
     DeviceArray2D<std::uint16_t> depth;
     depth.upload (f.depth, f.scene.width);
@@ -288,7 +289,7 @@ TEST (GpuTexletEstimationTest, BackProjectionMatchesTheHost)
     std::vector<DevicePoint> gpu, host;
     int cols;
     cloud.download (gpu, cols);
-    pcl::gpu::backProjectReference (f.depth, f.scene.width, f.scene.height, camera, host);
+    gpu::backProjectReference (f.depth, f.scene.width, f.scene.height, camera, host);
     ASSERT_EQ (gpu.size (), host.size ());
     double worst = 0;
     std::size_t nan_mismatch = 0;
@@ -307,7 +308,7 @@ TEST (GpuTexletEstimationTest, BackProjectionMatchesTheHost)
 
 /** (fit, uncertainty, precision, strategy) */
 class GpuMatchesHostTest
-  : public ::testing::TestWithParam<std::tuple<PlaneFitMethod, UncertaintyMethod, Precision, pcl::gpu::Strategy>>
+  : public ::testing::TestWithParam<std::tuple<PlaneFitMethod, UncertaintyMethod, Precision, gpu::Strategy>>
 {
 };
 
@@ -358,7 +359,7 @@ methodName (const ::testing::TestParamInfo<GpuMatchesHostTest::ParamType> &info)
   return std::string (fits[static_cast<int> (std::get<0> (info.param))]) + "_" +
          unc[static_cast<int> (std::get<1> (info.param))] + "_" +
          (std::get<2> (info.param) == Precision::Double ? "Double" : "Float") +
-         (std::get<3> (info.param) == pcl::gpu::Strategy::Thread ? "_Thread" : "_Warp");
+         (std::get<3> (info.param) == gpu::Strategy::Thread ? "_Thread" : "_Warp");
 }
 
 INSTANTIATE_TEST_SUITE_P (
@@ -367,7 +368,7 @@ INSTANTIATE_TEST_SUITE_P (
                         ::testing::Values (UncertaintyMethod::None, UncertaintyMethod::Analytic,
                                            UncertaintyMethod::MonteCarlo),
                         ::testing::Values (Precision::Double, Precision::Float),
-                        ::testing::Values (pcl::gpu::Strategy::Thread, pcl::gpu::Strategy::Warp)),
+                        ::testing::Values (gpu::Strategy::Thread, gpu::Strategy::Warp)),
     methodName);
 
 TEST (GpuTexletEstimationTest, LargeDiscsUseGlobalScratchAndStillMatch)
@@ -406,7 +407,7 @@ TEST (GpuTexletEstimationTest, WallNormalsMatchTheGeometry)
 TEST (GpuTexletEstimationTest, AllInvalidDepthIsAnError)
 {
   REQUIRE_CUDA_DEVICE ();
-  pcl::gpu::TexletEstimation est;
+  gpu::TexletEstimation est;
   est.setCamera (DeviceCamera::pinhole (290.0, 290.0, 159.5, 119.5));
   DeviceArray2D<std::uint16_t> depth;
   depth.upload (std::vector<std::uint16_t> (320 * 240, 0), 320);

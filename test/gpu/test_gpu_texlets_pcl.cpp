@@ -1,17 +1,18 @@
 /*
  * The CUDA backend against the CPU path, pcl::TexletEstimation, on a real Kinect frame.
  *
- * Without a device, the host build of frameTexlet (the per-thread code of the GPU kernel) is
- * checked against the CPU path: same texlets for the same seed. With a device, the GPU's own
- * output is, within the issue's tolerances (normals 1e-4 rad, covariances 1e-3 relative).
+ * Without a device, the host build of the GPU's per-thread code (deviceTexlet: the texlet
+ * stages on the device's frame) is checked against the CPU path: the same texlets, byte for
+ * byte, for the same seed. With a device, the GPU's own output is, within the issue's
+ * tolerances (normals 1e-4 rad, covariances 1e-3 relative).
  */
 #include <pcl_texlet/camera/depth_image.h>
-#include <pcl_texlet/gpu/synthetic_frame.h>
-#include <pcl_texlet/gpu/texlet_estimation_pcl.h>
 #include <pcl_texlet/camera/openni_fov_model.h>
 #include <pcl_texlet/camera/pinhole_model.h>
 #include <pcl_texlet/features/texlet_estimation.h>
+#include <pcl_texlet/gpu/texlet_estimation_pcl.h>
 
+#include "gpu/synthetic_frame.h"
 #include "gpu/texlet_compare.h"
 
 #include <pcl/io/pcd_io.h>
@@ -26,6 +27,7 @@
 #include <tuple>
 #include <vector>
 
+namespace gpu = pcl::texlet::gpu;
 using pcl::texlet::PlaneFitMethod;
 using pcl::texlet::UncertaintyMethod;
 using pcl_texlet_test::compareTexlets;
@@ -104,8 +106,8 @@ TEST (GpuPclLayoutTest, DeviceTexletBytesAreAPclTexlet)
 {
   // Layout is checked at compile time in texlet_estimation_pcl.h; here the bytes of a texlet
   // written through DeviceTexlet read back as the same pcl::Texlet fields.
-  pcl::gpu::DeviceTexlet d;
-  pcl::gpu::failTexlet (1234u, d);
+  gpu::DeviceTexlet d;
+  pcl::texlet::kernels::writeFailedTexlet (1234u, d);
   d.x = 1.5f;
   d.normal_z = -1.0f;
   d.rgba = 0xff102030u;
@@ -132,7 +134,7 @@ TEST (GpuPclConversionTest, CamerasAgreeWithTheLibrarysModels)
   for (const pcl::texlet::CameraModel *model : {static_cast<const pcl::texlet::CameraModel *> (&pinhole),
                                                 static_cast<const pcl::texlet::CameraModel *> (&fov)})
   {
-    const pcl::gpu::DeviceCamera d = pcl::gpu::toDeviceCamera (*model);
+    const gpu::DeviceCamera d = gpu::toDeviceCamera (*model);
     for (const double u : {0.0, 100.5, 319.5, 639.0})
       for (const double v : {0.0, 240.0, 479.0})
       {
@@ -149,7 +151,7 @@ TEST (GpuPclConversionTest, CamerasAgreeWithTheLibrarysModels)
 TEST (GpuPclConversionTest, NoiseModelAgreesAndUnknownTermsAreRefused)
 {
   const pcl::texlet::NoiseModel paper = pcl::texlet::NoiseModel::paper ();
-  const pcl::gpu::DeviceNoise d = pcl::gpu::toDeviceNoise (paper);
+  const gpu::DeviceNoise d = gpu::toDeviceNoise (paper);
   for (const double r : {0.0, 150.0, 400.0})
     for (const double z : {500.0, 1200.0, 3000.0, -1.0})
     {
@@ -176,7 +178,7 @@ TEST (GpuPclConversionTest, NoiseModelAgreesAndUnknownTermsAreRefused)
   other.add (OtherTerm ());
   try
   {
-    pcl::gpu::toDeviceNoise (other);
+    gpu::toDeviceNoise (other);
     FAIL () << "no exception";
   }
   catch (const pcl::BadArgumentException &e)
@@ -187,7 +189,7 @@ TEST (GpuPclConversionTest, NoiseModelAgreesAndUnknownTermsAreRefused)
 
 TEST (GpuPclConversionTest, BackProjectionIsDepthToCloud)
 {
-  pcl::gpu::SyntheticFrame scene;
+  pcl_texlet_test::SyntheticFrame scene;
   const std::vector<std::uint16_t> depth = scene.render ();
   const pcl::texlet::PinholeModel camera (580.0, 580.0, 319.5, 239.5, {0.1, -0.2, 0.001, 0.001, 0.05});
   pcl::texlet::DepthFrame frame;
@@ -197,8 +199,8 @@ TEST (GpuPclConversionTest, BackProjectionIsDepthToCloud)
   frame.depth_mm = depth;
   pcl::PointCloud<pcl::PointXYZ> cpu;
   pcl::texlet::depthToCloud (frame, camera, cpu);
-  std::vector<pcl::gpu::DevicePoint> ref;
-  pcl::gpu::backProjectReference (depth, scene.width, scene.height, pcl::gpu::toDeviceCamera (camera), ref);
+  std::vector<gpu::DevicePoint> ref;
+  gpu::backProjectReference (depth, scene.width, scene.height, gpu::toDeviceCamera (camera), ref);
   ASSERT_EQ (ref.size (), cpu.size ());
   std::size_t differ = 0;
   for (std::size_t i = 0; i < ref.size (); ++i)
@@ -221,31 +223,35 @@ TEST_P (GpuPclMethodsTest, HostBuildOfTheGpuCodeMatchesTheCpuPath)
   const auto p = parameters (std::get<0> (GetParam ()), std::get<1> (GetParam ()));
   const auto camera = std::make_shared<pcl::texlet::PinholeModel> (pcl::texlet::estimatePinholeModel (cloud));
   const std::vector<pcl::Texlet> cpu = cpuTexlets (cloud, p, camera);
-  std::vector<pcl::gpu::DevicePoint> points;
-  pcl::gpu::toDevicePoints (cloud, points);
-  std::vector<pcl::gpu::DeviceTexlet> ref;
-  pcl::gpu::computeTexletsReference<double> (points, cloud.width, cloud.height, pcl::gpu::toDeviceCamera (*camera),
-                                             pcl::gpu::toDeviceNoise (pcl::texlet::NoiseModel::paper ()), p, true, ref);
+  std::vector<gpu::DevicePoint> points;
+  gpu::toDevicePoints (cloud, points);
+  std::vector<gpu::DeviceTexlet> ref;
+  gpu::computeTexletsReference<double> (points, cloud.width, cloud.height, gpu::toDeviceCamera (*camera),
+                                             gpu::toDeviceNoise (pcl::texlet::NoiseModel::paper ()), p, true, ref);
   ASSERT_EQ (ref.size (), cpu.size ());
   // The same double code compiled twice on the host: nothing should differ.
   expectAgreement (compareTexlets (ref, cpu), cpu.size (), p.uncertainty, 0);
+  std::size_t bytes_differ = 0;
+  for (std::size_t i = 0; i < cpu.size (); ++i)
+    bytes_differ += std::memcmp (&ref[i], &cpu[i], sizeof (pcl::Texlet)) != 0 ? 1 : 0;
+  EXPECT_EQ (bytes_differ, 0u) << "texlets whose bytes differ, of " << cpu.size ();
 }
 
 TEST_P (GpuPclMethodsTest, GpuMatchesTheCpuPath)
 {
-  if (pcl::gpu::cudaDeviceCount () == 0)
+  if (gpu::cudaDeviceCount () == 0)
     GTEST_SKIP () << "no CUDA device (cudaGetDeviceCount reports none): the GPU backend is compiled but not run";
   const auto &cloud = kinectFrame ();
   const auto p = parameters (std::get<0> (GetParam ()), std::get<1> (GetParam ()));
   const auto camera = std::make_shared<pcl::texlet::PinholeModel> (pcl::texlet::estimatePinholeModel (cloud));
   const std::vector<pcl::Texlet> cpu = cpuTexlets (cloud, p, camera);
-  for (const pcl::gpu::Strategy strategy : {pcl::gpu::Strategy::Thread, pcl::gpu::Strategy::Warp})
+  for (const gpu::Strategy strategy : {gpu::Strategy::Thread, gpu::Strategy::Warp})
   {
-    SCOPED_TRACE (strategy == pcl::gpu::Strategy::Thread ? "one thread per texlet" : "one warp per texlet");
-    pcl::gpu::TexletEstimation est;
+    SCOPED_TRACE (strategy == gpu::Strategy::Thread ? "one thread per texlet" : "one warp per texlet");
+    gpu::TexletEstimation est;
     est.setStrategy (strategy);
     est.setParameters (p);
-    est.setCamera (pcl::gpu::toDeviceCamera (*camera));
+    est.setCamera (gpu::toDeviceCamera (*camera));
     pcl::PointCloud<pcl::Texlet> gpu;
     est.compute (cloud, gpu);
     ASSERT_EQ (gpu.size (), cpu.size ());
@@ -266,9 +272,9 @@ INSTANTIATE_TEST_SUITE_P (
 
 TEST (GpuPclTest, DepthImageOnTheGpuMatchesDepthToCloudOnTheCpu)
 {
-  if (pcl::gpu::cudaDeviceCount () == 0)
+  if (gpu::cudaDeviceCount () == 0)
     GTEST_SKIP () << "no CUDA device (cudaGetDeviceCount reports none): the GPU backend is compiled but not run";
-  pcl::gpu::SyntheticFrame scene;
+  pcl_texlet_test::SyntheticFrame scene;
   const std::vector<std::uint16_t> depth = scene.render ();
   const auto camera = std::make_shared<pcl::texlet::PinholeModel> (580.0, 580.0, 319.5, 239.5);
   pcl::texlet::DepthFrame frame;
@@ -283,14 +289,14 @@ TEST (GpuPclTest, DepthImageOnTheGpuMatchesDepthToCloudOnTheCpu)
   pcl::PointCloud<pcl::Texlet> cpu;
   cpu_est.compute (cpu);
 
-  pcl::gpu::TexletEstimation est;
-  est.setCamera (pcl::gpu::toDeviceCamera (*camera));
-  pcl::gpu::DeviceArray2D<std::uint16_t> d;
+  gpu::TexletEstimation est;
+  est.setCamera (gpu::toDeviceCamera (*camera));
+  gpu::DeviceArray2D<std::uint16_t> d;
   d.upload (depth, scene.width);
-  pcl::gpu::DeviceArray<pcl::gpu::DeviceTexlet> out;
+  gpu::DeviceArray<gpu::DeviceTexlet> out;
   est.compute (d, out);
   pcl::PointCloud<pcl::Texlet> gpu;
-  pcl::gpu::downloadTexlets (out, gpu);
+  gpu::downloadTexlets (out, gpu);
   ASSERT_EQ (gpu.size (), cpu.size ());
   expectAgreement (compareTexlets (std::vector<pcl::Texlet> (gpu.begin (), gpu.end ()),
                                    std::vector<pcl::Texlet> (cpu.begin (), cpu.end ())),

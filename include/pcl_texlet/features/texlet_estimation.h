@@ -21,7 +21,7 @@ namespace pcl
   * TexletEstimation). Allocates scratch per call; TexletEstimation reuses it across texlets.
   * \param[in] cloud organised input cloud, metres
   * \param[in] centre index of the centre pixel in \a cloud
-  * \param[in] params extraction settings (validated)
+  * \param[in] params extraction settings (validated); the normal faces params.viewpoint
   * \param[in] camera camera model of the cloud (gives the noise model's radius)
   * \param[in] noise depth noise model (sigma in mm)
   * \param[out] texlet the texlet; NaN with support 0 where it could not be made
@@ -48,9 +48,10 @@ computeTexlet (const pcl::PointCloud<PointInT> &cloud, pcl::index_t centre, cons
   *
   * The output holds one texlet per centre, in the order of the centres; a texlet that could
   * not be made (too few valid points, a degenerate neighbourhood) is NaN with support 0 and
-  * the output is then not dense. Normals face the viewpoint (default: the origin). Random
-  * draws come from Philox counters keyed by (seed, centre pixel, draw), so the output is the
-  * same for the same seed whatever the number of threads.
+  * the output is then not dense. Normals face the viewpoint: as in PCL's NormalEstimation the
+  * input cloud's sensor_origin_ unless setViewPoint was called (useSensorOriginAsViewPoint).
+  * Random draws come from Philox counters keyed by (seed, centre pixel, draw), so the output is
+  * the same for the same seed whatever the number of threads.
   *
   * Input coordinates are in metres; the noise model works in millimetres.
   *
@@ -133,16 +134,23 @@ public:
   std::uint32_t
   getSeed () const { return params_.seed; }
 
-  /** \brief Viewpoint the normals face (default: the origin, the camera centre). */
+  /** \brief Viewpoint the normals face; from now on it is used instead of the input cloud's
+    * sensor origin (as in PCL's NormalEstimation).
+    */
   void
   setViewPoint (float vpx, float vpy, float vpz);
+
+  /** \brief The viewpoint the normals face: the one of setViewPoint, or else the input cloud's
+    * sensor origin (the origin while there is no input).
+    */
   void
-  getViewPoint (float &vpx, float &vpy, float &vpz) const
-  {
-    vpx = params_.viewpoint[0];
-    vpy = params_.viewpoint[1];
-    vpz = params_.viewpoint[2];
-  }
+  getViewPoint (float &vpx, float &vpy, float &vpz) const;
+
+  /** \brief Normals face the input cloud's sensor_origin_ (the default), not a viewpoint set with
+    * setViewPoint, as in PCL's NormalEstimation.
+    */
+  void
+  useSensorOriginAsViewPoint () { use_sensor_origin_ = true; }
 
   /** \brief Depth noise model (default: the paper's polynomial). */
   void
@@ -170,7 +178,9 @@ public:
   texlet::CameraModel::ConstPtr
   getCameraModel () const { return camera_; }
 
-  /** \brief All settings at once (validated). */
+  /** \brief All settings at once (validated). A viewpoint other than the one held so far counts
+    * as set with setViewPoint; an unchanged one leaves the sensor origin in use if it was.
+    */
   void
   setParameters (const texlet::TexletParameters &params);
   const texlet::TexletParameters &
@@ -192,7 +202,12 @@ protected:
   computeFeature (PointCloudOut &output) override;
 
 private:
+  /** \brief The viewpoint in use (getViewPoint). */
+  void
+  viewPoint (float vp[3]) const;
+
   texlet::TexletParameters params_;
+  bool use_sensor_origin_ = true; // normals face input_->sensor_origin_, not params_.viewpoint
   texlet::NoiseModel noise_;
   texlet::PixelContext noise_context_;
   texlet::CameraModel::ConstPtr camera_;

@@ -1,5 +1,5 @@
 /*
- * pcl_texlet GPU: texlet extraction on a CUDA device (pcl::gpu style).
+ * pcl_texlet GPU: texlet extraction on a CUDA device, in the style of PCL's gpu modules.
  *
  * Needs CUDA's runtime and the kernels' headers only, not PCL: the device machine builds it
  * with CUDA and Eigen alone. The PCL-side conveniences (host pcl::PointCloud in, a
@@ -22,6 +22,8 @@ namespace pcl
 template <typename PointT> class PointCloud;
 struct Texlet;
 
+namespace texlet
+{
 namespace gpu
 {
 
@@ -37,13 +39,14 @@ enum class Precision : int
 /** \brief How the device's threads share the texlets. */
 enum class Strategy : int
 {
-  Thread = 0, ///< one thread per texlet running kernels::computeTexlet itself (default)
+  Thread = 0, ///< one thread per texlet running the texlet stages as the CPU does (default)
   Warp = 1    ///< one warp per texlet: RANSAC hypotheses and Monte Carlo samples across the lanes
-              ///< (PCA and averaging fits; SVD and discs over 360 points use Thread)
+              ///< (PCA and averaging fits; SVD and discs too large for shared memory, in double
+              ///< precision from radius 11 on, use Thread)
 };
 
-/** \brief Checks every field of \a p for the GPU backend.
-  * \throws std::invalid_argument naming the field and its value
+/** \brief Checks every field of \a p by the CPU path's rules (texlet::parameterProblem).
+  * \throws std::invalid_argument naming the field, the rule and the value
   */
 void
 validateParameters (const texlet::TexletParameters &p);
@@ -52,9 +55,10 @@ validateParameters (const texlet::TexletParameters &p);
   * with one CUDA thread per texlet, run on an organised cloud on the device or on a 16-bit
   * depth image that is back-projected on the device (the paper's step 1).
   *
-  * Each thread gathers its pixel disc, evaluates the noise model per pixel and calls the
-  * header-only kernels::computeTexlet with the texlet's Philox key (the centre pixel's index),
-  * as the CPU path does: for the same seed the two agree to rounding (Precision::Double).
+  * Each thread runs the texlet stages of kernels/texlet_stages.h on the device's frame
+  * (DeviceFrame): the disc, the noise model per pixel, RANSAC, the fit and the uncertainty,
+  * keyed by the centre pixel's index, as the CPU path does: for the same seed the two agree to
+  * rounding (Precision::Double). The normals face the parameters' viewpoint.
   * Centres lie on the hexagonal grid of the spacing; the output holds one texlet per centre in
   * grid order, NaN with support 0 where none could be made. Mean colour is computed when the
   * cloud's rgba words carry colour (setColour). All calls are synchronous on the stream set
@@ -122,7 +126,7 @@ public:
   getMadeCount () const { return made_; }
 
   /** \brief Texlets of an organised cloud on the device (metres; NaN or z <= 0: no reading).
-    * \throws std::invalid_argument for an empty cloud or no camera, pcl::gpu::CudaError
+    * \throws std::invalid_argument for an empty cloud or no camera, pcl::texlet::gpu::CudaError
     */
   void
   compute (const DeviceArray2D<DevicePoint> &cloud, DeviceArray<DeviceTexlet> &output);
@@ -178,4 +182,5 @@ downloadTexlets (const DeviceArray<DeviceTexlet> &device, std::vector<DeviceTexl
 }
 
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl

@@ -1,5 +1,5 @@
 /*
- * pcl_texlet GPU: the PCL side of pcl::gpu::TexletEstimation (needs PCL and libpcl_texlet).
+ * pcl_texlet GPU: the PCL side of pcl::texlet::gpu::TexletEstimation (needs PCL and libpcl_texlet).
  *
  * Host pcl::PointCloud in, pcl::PointCloud<pcl::Texlet> out; the library's CameraModel and
  * NoiseModel turned into the device's PODs. DeviceTexlet has pcl::Texlet's layout (checked
@@ -23,6 +23,8 @@
 #include <vector>
 
 namespace pcl
+{
+namespace texlet
 {
 namespace gpu
 {
@@ -72,7 +74,7 @@ template <typename PointT> void
 toDevicePoints (const pcl::PointCloud<PointT> &cloud, std::vector<DevicePoint> &points)
 {
   if (cloud.height <= 1 || static_cast<std::size_t> (cloud.width) * cloud.height != cloud.size ())
-    throw pcl::UnorganizedPointCloudException ("pcl::gpu::TexletEstimation: the input cloud is not organised; "
+    throw pcl::UnorganizedPointCloudException ("pcl::texlet::gpu::TexletEstimation: the input cloud is not organised; "
                                                "texlets need the pixel grid of a depth image");
   points.resize (cloud.size ());
   for (std::size_t i = 0; i < cloud.size (); ++i)
@@ -135,4 +137,5 @@ TexletEstimation::compute (const pcl::PointCloud<PointT> &cloud, pcl::PointCloud
 }
 
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl

@@ -27,6 +27,8 @@
 
 namespace pcl
 {
+namespace texlet
+{
 namespace gpu
 {
 
@@ -35,7 +37,7 @@ namespace gpu
   * current CUDA device: the GPU backend of pcl::texlet::accumulateRelations, whose
   * RelationParameters::backend takes it. The call is synchronous on \a stream.
   * \throws std::invalid_argument for bad axes, more than kernels::kMaxRelationBoxes boxes or
-  *         missing arrays; pcl::gpu::CudaError when there is no device or a CUDA call fails
+  *         missing arrays; pcl::texlet::gpu::CudaError when there is no device or a CUDA call fails
   */
 void
 accumulateRelations (const texlet::kernels::RelationInput<float> &in, const texlet::kernels::RelationConfig &config,
@@ -51,10 +53,11 @@ struct RelationLaunch
 };
 
 /** \brief The launch accumulateRelations would use for \a texlets on the current device.
-  * \throws pcl::gpu::CudaError without a device
+  * \throws pcl::texlet::gpu::CudaError without a device
   */
 RelationLaunch
 relationLaunch (int texlets, const texlet::kernels::RelationConfig &config);
 
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl

@@ -95,6 +95,17 @@ hexNeighbourOffset (int k, int distance, int &du, int &dv)
   dv = -static_cast<int> (std::lround (distance * s[k]));
 }
 
+/** \brief The ring of normal averaging: the centre (0, 0) at index 0 and its six hexagonal
+  * neighbours at \a distance pixels (hexNeighbourOffset()) at 1..6.
+  */
+PCL_TEXLET_HD void
+hexRingOffsets (int distance, int du[7], int dv[7])
+{
+  du[0] = dv[0] = 0;
+  for (int k = 1; k < 7; ++k)
+    hexNeighbourOffset (k - 1, distance, du[k], dv[k]);
+}
+
 } // namespace kernels
 } // namespace texlet
 } // namespace pcl

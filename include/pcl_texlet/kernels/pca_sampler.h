@@ -143,6 +143,48 @@ pcaModelPoint (const Neighbourhood<S> &nb, const unsigned char *mask, int k, con
   }
 }
 
+/** \brief The measured fit's eigenbasis (N, e1, e2) and its centre P0 in that basis: the frame
+  * in which the model's sums are taken.
+  */
+template <typename S>
+struct PcaModelBasis
+{
+  Vec3<S> P0;
+  Vec3<S> axes[3];
+  S P0b[3];
+};
+
+template <typename S> PCL_TEXLET_HD PcaModelBasis<S>
+pcaModelBasis (const PlaneFit<S> &fit)
+{
+  PcaModelBasis<S> b;
+  b.P0 = fit.P;
+  b.axes[0] = fit.N;
+  b.axes[1] = fit.e1;
+  b.axes[2] = fit.e2;
+  for (int i = 0; i < 3; ++i)
+    b.P0b[i] = dot (b.axes[i], b.P0);
+  return b;
+}
+
+/** \brief Adds points first, first + stride, ... of \a nb to \a sums (pcaModelPoint()).
+  * \return how many of them are inliers
+  */
+template <typename S> PCL_TEXLET_HD int
+addPcaModelPoints (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaModelBasis<S> &b, int first,
+                   int stride, PcaModelSums<S> &sums)
+{
+  int n = 0;
+  for (int k = first; k < nb.count; k += stride)
+  {
+    S q[3], a[3];
+    pcaModelPoint (nb, mask, k, b.P0, b.axes, b.P0b, q, a);
+    sums.add (q, a);
+    n += mask[k] ? 1 : 0;
+  }
+  return n;
+}
+
 /** \brief Makes the model from the sums over \a n inliers; \a n0, \a t1, \a t2 are the
   * reference normal (samples are turned toward it) and the tangent frame, world frame.
   */

@@ -35,9 +35,14 @@ pointPlaneDistance (const Plane<S> &plane, const Vec3<S> &p)
   return std::fabs (dot (plane.n, p) + plane.d);
 }
 
-/** \brief Number of points i in [begin, end) within \a threshold of \a plane
-  * (pointPlaneDistance (plane, p_i) <= threshold).
-  */
+/** \brief Whether \a p is an inlier of \a plane: within \a threshold of it. */
+template <typename S> PCL_TEXLET_HD bool
+isInlier (const Plane<S> &plane, const Vec3<S> &p, S threshold)
+{
+  return pointPlaneDistance (plane, p) <= threshold;
+}
+
+/** \brief Number of points i in [begin, end) that are inliers of \a plane (isInlier()). */
 template <typename S> PCL_TEXLET_HD int
 countInliers (const Plane<S> &plane, const S *x, const S *y, const S *z, int begin, int end, S threshold)
 {
@@ -64,13 +69,11 @@ countInliers (const Plane<S> &plane, const S *x, const S *y, const S *z, int beg
   }
 #endif
   for (; i < end; ++i)
-    count += pointPlaneDistance (plane, make3 (x[i], y[i], z[i])) <= threshold ? 1 : 0;
+    count += isInlier (plane, make3 (x[i], y[i], z[i]), threshold) ? 1 : 0;
   return count;
 }
 
-/** \brief mask[i] = 1 for the points within \a threshold of \a plane, else 0 (the test of
-  * countInliers()), for i in [0, n).
-  */
+/** \brief mask[i] = 1 for the inliers of \a plane (isInlier()), else 0, for i in [0, n). */
 template <typename S> PCL_TEXLET_HD void
 markInliers (const Plane<S> &plane, const S *x, const S *y, const S *z, int n, S threshold, unsigned char *mask)
 {
@@ -94,12 +97,41 @@ markInliers (const Plane<S> &plane, const S *x, const S *y, const S *z, int n, S
   }
 #endif
   for (; i < n; ++i)
-    mask[i] = pointPlaneDistance (plane, make3 (x[i], y[i], z[i])) <= threshold ? 1 : 0;
+    mask[i] = isInlier (plane, make3 (x[i], y[i], z[i]), threshold) ? 1 : 0;
 }
 
-/** \brief Best plane over \a iterations hypotheses through three distinct points of the
-  * \a n points (x, y, z). \return its inlier count (distance <= threshold), 0 if every
-  * hypothesis was degenerate (collinear triples) or n < 3.
+/** \brief Philox words of RANSAC hypothesis \a iteration of a texlet (the batches of
+  * philoxCounters() in ransacPlane() hold the same words).
+  */
+PCL_TEXLET_HD r123::Philox4x32::ctr_type
+ransacWords (std::uint32_t seed, std::uint32_t texlet, int iteration)
+{
+  return philoxWords (seed, texlet, static_cast<std::uint32_t> (iteration), 0u, RandomStream::Ransac);
+}
+
+/** \brief One RANSAC hypothesis: the plane \a h through the three distinct points of the \a n
+  * points (x, y, z) that the words \a w pick (distinctTriple()).
+  * \return false for a (nearly) collinear triple, whose plane is not determined
+  */
+template <typename S> PCL_TEXLET_HD bool
+ransacHypothesis (const S *x, const S *y, const S *z, int n, const r123::Philox4x32::ctr_type &w, Plane<S> &h)
+{
+  int ia, ib, ic;
+  distinctTriple (w, n, ia, ib, ic);
+  const Vec3<S> pa = {x[ia], y[ia], z[ia]};
+  const Vec3<S> ab = make3 (x[ib], y[ib], z[ib]) - pa, ac = make3 (x[ic], y[ic], z[ic]) - pa;
+  const Vec3<S> c = cross (ab, ac);
+  const S c2 = squaredNorm (c);
+  if (!(c2 > S (1e-10) * squaredNorm (ab) * squaredNorm (ac)))
+    return false;
+  h.n = (S (1) / std::sqrt (c2)) * c;
+  h.d = -dot (h.n, pa);
+  return true;
+}
+
+/** \brief Best plane over \a iterations hypotheses (ransacHypothesis()) of the \a n points
+  * (x, y, z); the first of the hypotheses with the most inliers wins.
+  * \return its inlier count, 0 if every hypothesis was degenerate or n < 3
   */
 template <typename S> PCL_TEXLET_HD int
 ransacPlane (const S *x, const S *y, const S *z, int n, int iterations, S threshold,
@@ -120,18 +152,9 @@ ransacPlane (const S *x, const S *y, const S *z, int n, int iterations, S thresh
       philoxCounters (seed, texlet, 0u, RandomStream::Ransac, it, m, words[0], words[1], words[2], words[3]);
     }
     const r123::Philox4x32::ctr_type w = {{words[0][slot], words[1][slot], words[2][slot], words[3][slot]}};
-    int ia, ib, ic;
-    distinctTriple (w, n, ia, ib, ic);
-    const Vec3<S> pa = {x[ia], y[ia], z[ia]};
-    const Vec3<S> ab = make3 (x[ib], y[ib], z[ib]) - pa, ac = make3 (x[ic], y[ic], z[ic]) - pa;
-    const Vec3<S> c = cross (ab, ac);
-    const S c2 = squaredNorm (c);
-    // Skip (nearly) collinear triples: their plane is not determined.
-    if (!(c2 > S (1e-10) * squaredNorm (ab) * squaredNorm (ac)))
-      continue;
     Plane<S> h;
-    h.n = (S (1) / std::sqrt (c2)) * c;
-    h.d = -dot (h.n, pa);
+    if (!ransacHypothesis (x, y, z, n, w, h))
+      continue;
     // Count in chunks and give up on a hypothesis once it can no longer beat the best one:
     // the same planes win, with less counting.
     int count = 0;

@@ -2,9 +2,10 @@
  * pcl_texlet kernels: one texlet from its neighbourhood (paper, Sect. 3.2, steps 2 and 3).
  *
  * RANSAC marks the inliers, the chosen fit gives P and N, N is turned toward the viewpoint,
- * and the chosen propagation gives Sigma_P and Sigma_N. The function allocates nothing: the
- * caller passes an inlier mask of nb.count bytes and a work buffer of
- * texletWorkSize (nb.count) values.
+ * and the chosen propagation gives Sigma_P and Sigma_N. Each step is a stage function of its
+ * own, so the GPU's warp strategy can spread them over lanes (src/gpu/texlet_warp_kernel.cuh)
+ * without restating them. computeTexlet() allocates nothing: the caller passes an inlier mask
+ * of nb.count bytes and a work buffer of texletWorkSize (nb.count) values.
  */
 #pragma once
 
@@ -54,6 +55,126 @@ texletWorkSize (int count)
   return 3 * count; // the SVD fit's centred points
 }
 
+/** \brief Fewest RANSAC inliers that make a texlet: the setting, but never under 3. */
+template <typename S> PCL_TEXLET_HD int
+minSupport (const TexletSettings<S> &st)
+{
+  return st.min_support > 3 ? st.min_support : 3;
+}
+
+/** \brief The PCA plane of the inliers (\a mask) of \a nb. \return false if they have none */
+template <typename S> PCL_TEXLET_HD bool
+fitInliersPca (const Neighbourhood<S> &nb, const unsigned char *mask, PlaneFit<S> &fit)
+{
+  PlaneMoments<S> m;
+  m.reset (nb.point (0)); // any point of the patch keeps the sums small
+  for (int k = 0; k < nb.count; ++k)
+    if (mask[k])
+      m.add (nb.point (k));
+  return fitPlanePca (m, fit);
+}
+
+/** \brief Replaces the PCA plane \a fit of the inliers by their SVD plane (centred on the
+  * same mean). \param work scratch of texletWorkSize (nb.count) values
+  */
+template <typename S> PCL_TEXLET_HD bool
+refitInliersSvd (const Neighbourhood<S> &nb, const unsigned char *mask, S *work, PlaneFit<S> &fit)
+{
+  int n = 0;
+  for (int k = 0; k < nb.count; ++k)
+    if (mask[k])
+    {
+      const Vec3<S> q = nb.point (k) - fit.P;
+      work[3 * n + 0] = q.x;
+      work[3 * n + 1] = q.y;
+      work[3 * n + 2] = q.z;
+      ++n;
+    }
+  return fitPlaneSvd (work, n, fit.P, fit);
+}
+
+/** \brief Replaces the normal and centre of \a fit by normal averaging (Eq. 5) over the ring
+  * points that are inliers of the RANSAC \a plane (\a ring_use), centred on the ring's centre.
+  * The PCA eigenvalues stay: they give curvature and radius.
+  */
+template <typename S> PCL_TEXLET_HD bool
+averageRingNormal (const Neighbourhood<S> &nb, const Plane<S> &plane, S threshold, bool ring_use[7], PlaneFit<S> &fit)
+{
+  for (int i = 0; i < 7; ++i)
+    ring_use[i] = nb.ring_valid[i] && isInlier (plane, nb.ring[i], threshold);
+  Vec3<S> n;
+  if (!averagingNormal (nb.ring, ring_use, n))
+    return false;
+  fit.N = n;
+  fit.P = nb.ring[0];
+  return true;
+}
+
+/** \brief The plane fit \a method of the inliers (\a mask) of the RANSAC \a plane: the PCA fit,
+  * then for SVD its refit and for averaging the ring's normal (\a ring_use: which ring points
+  * it used; none for PCA and SVD). \return false where no plane is defined
+  */
+template <typename S> PCL_TEXLET_HD bool
+fitTexletPlane (const Neighbourhood<S> &nb, const unsigned char *mask, const Plane<S> &plane, S threshold,
+                PlaneFitMethod method, S *work, PlaneFit<S> &fit, bool ring_use[7])
+{
+  for (int i = 0; i < 7; ++i)
+    ring_use[i] = false;
+  if (!fitInliersPca (nb, mask, fit))
+    return false;
+  if (method == PlaneFitMethod::SVD)
+    return refitInliersSvd (nb, mask, work, fit);
+  if (method == PlaneFitMethod::Averaging)
+    return averageRingNormal (nb, plane, threshold, ring_use, fit);
+  return true;
+}
+
+/** \brief \a n or -n, whichever faces \a viewpoint from \a P. */
+template <typename S> PCL_TEXLET_HD Vec3<S>
+faceViewpoint (const Vec3<S> &n, const Vec3<S> &P, const Vec3<S> &viewpoint)
+{
+  return dot (n, viewpoint - P) < S (0) ? -n : n;
+}
+
+/** \brief Sigma_P and Sigma_N of the fit by the settings' uncertainty method (NaN for None).
+  * \param N the texlet's normal (the fit's, facing the viewpoint), \a t1, \a t2 its tangents
+  */
+template <typename S> PCL_TEXLET_HD void
+texletUncertainty (const Neighbourhood<S> &nb, const unsigned char *mask, const bool ring_use[7],
+                   const PlaneFit<S> &fit, const Vec3<S> &N, const Vec3<S> &t1, const Vec3<S> &t2,
+                   const TexletSettings<S> &st, std::uint32_t texlet, S *work, S cov_p[6], S cov_n[3])
+{
+  switch (st.uncertainty)
+  {
+  case UncertaintyMethod::Analytic:
+    analyticCovariance (nb, mask, ring_use, st.fit, fit, N, t1, t2, cov_p, cov_n);
+    break;
+  case UncertaintyMethod::MonteCarlo:
+    if (st.fit == PlaneFitMethod::PCA)
+      monteCarloPcaCovariance (nb, mask, fit, st.samples, st.seed, texlet, N, t1, t2, cov_p, cov_n);
+    else
+      monteCarloCovariance (nb, mask, ring_use, st.fit, st.samples, st.seed, texlet, fit.P, N, t1, t2, work, cov_p,
+                            cov_n);
+    break;
+  default:
+    fillNaN (cov_p, 6);
+    fillNaN (cov_n, 3);
+  }
+}
+
+/** \brief The texlet's P, N, curvature, radius and support from its fit (covariances aside). */
+template <typename S> PCL_TEXLET_HD void
+finishTexlet (const PlaneFit<S> &fit, const Vec3<S> &N, int inliers, TexletResult<S> &out)
+{
+  const S sum = fit.lambda[0] + fit.lambda[1] + fit.lambda[2];
+  out.P = fit.P;
+  out.N = N;
+  out.curvature = sum > S (0) ? fit.lambda[0] / sum : S (0);
+  out.radius = std::sqrt (S (2) * (fit.lambda[1] + fit.lambda[2]));
+  out.support = inliers;
+  out.ok = true;
+}
+
 /** \brief Computes one texlet. \a texlet is its Philox key (the centre pixel's index). */
 template <typename S> PCL_TEXLET_HD void
 computeTexlet (const Neighbourhood<S> &nb, const TexletSettings<S> &st, std::uint32_t texlet,
@@ -61,7 +182,7 @@ computeTexlet (const Neighbourhood<S> &nb, const TexletSettings<S> &st, std::uin
 {
   out.ok = false;
   out.support = 0;
-  const int min_support = st.min_support > 3 ? st.min_support : 3;
+  const int min_support = minSupport (st);
   if (nb.count < min_support)
     return;
 
@@ -70,76 +191,16 @@ computeTexlet (const Neighbourhood<S> &nb, const TexletSettings<S> &st, std::uin
   if (inliers < min_support)
     return;
 
-  PlaneMoments<S> m;
-  m.reset (nb.point (0)); // any point of the patch keeps the sums small
   markInliers (plane, nb.x, nb.y, nb.z, nb.count, st.threshold, mask);
-  for (int k = 0; k < nb.count; ++k)
-    if (mask[k])
-      m.add (nb.point (k));
   PlaneFit<S> fit;
-  if (!fitPlanePca (m, fit))
+  bool ring_use[7];
+  if (!fitTexletPlane (nb, mask, plane, st.threshold, st.fit, work, fit, ring_use))
     return;
-
-  bool ring_use[7] = {false, false, false, false, false, false, false};
-  if (st.fit == PlaneFitMethod::SVD)
-  {
-    int n = 0;
-    for (int k = 0; k < nb.count; ++k)
-      if (mask[k])
-      {
-        const Vec3<S> q = nb.point (k) - fit.P;
-        work[3 * n + 0] = q.x;
-        work[3 * n + 1] = q.y;
-        work[3 * n + 2] = q.z;
-        ++n;
-      }
-    if (!fitPlaneSvd (work, n, fit.P, fit))
-      return;
-  }
-  else if (st.fit == PlaneFitMethod::Averaging)
-  {
-    for (int i = 0; i < 7; ++i)
-      ring_use[i] = nb.ring_valid[i] && pointPlaneDistance (plane, nb.ring[i]) <= st.threshold;
-    Vec3<S> n;
-    if (!averagingNormal (nb.ring, ring_use, n))
-      return;
-    fit.N = n;
-    fit.P = nb.ring[0];
-  }
-
-  Vec3<S> N = fit.N;
-  if (dot (N, st.viewpoint - fit.P) < S (0))
-    N = -N;
+  const Vec3<S> N = faceViewpoint (fit.N, fit.P, st.viewpoint);
   Vec3<S> t1, t2;
   tangentFrame (N, t1, t2);
-
-  switch (st.uncertainty)
-  {
-  case UncertaintyMethod::Analytic:
-    if (st.fit == PlaneFitMethod::Averaging)
-      analyticAveragingCovariance (nb, ring_use, N, t1, t2, out.cov_p, out.cov_n);
-    else
-      analyticPlaneCovariance (nb, mask, fit, t1, t2, out.cov_p, out.cov_n);
-    break;
-  case UncertaintyMethod::MonteCarlo:
-    if (st.fit == PlaneFitMethod::PCA)
-      monteCarloPcaCovariance (nb, mask, fit, st.samples, st.seed, texlet, N, t1, t2, out.cov_p, out.cov_n);
-    else
-      monteCarloCovariance (nb, mask, ring_use, st.fit, st.samples, st.seed, texlet, fit.P, N, t1, t2, work,
-                          out.cov_p, out.cov_n);
-    break;
-  default:
-    fillNaN (out.cov_p, 6);
-    fillNaN (out.cov_n, 3);
-  }
-
-  const S sum = fit.lambda[0] + fit.lambda[1] + fit.lambda[2];
-  out.P = fit.P;
-  out.N = N;
-  out.curvature = sum > S (0) ? fit.lambda[0] / sum : S (0);
-  out.radius = std::sqrt (S (2) * (fit.lambda[1] + fit.lambda[2]));
-  out.support = inliers;
-  out.ok = true;
+  texletUncertainty (nb, mask, ring_use, fit, N, t1, t2, st, texlet, work, out.cov_p, out.cov_n);
+  finishTexlet (fit, N, inliers, out);
 }
 
 } // namespace kernels

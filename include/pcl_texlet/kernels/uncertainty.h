@@ -172,6 +172,21 @@ analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], cons
   }
 }
 
+/** \brief First-order covariances of the texlet's fit \a method: analyticAveragingCovariance()
+  * for normal averaging (ring points \a ring_use), analyticPlaneCovariance() of the inliers
+  * (\a mask) for PCA and SVD.
+  */
+template <typename S> PCL_TEXLET_HD void
+analyticCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const bool ring_use[7],
+                    PlaneFitMethod method, const PlaneFit<S> &fit, const Vec3<S> &N, const Vec3<S> &t1,
+                    const Vec3<S> &t2, S cov_p[6], S cov_n[3])
+{
+  if (method == PlaneFitMethod::Averaging)
+    analyticAveragingCovariance (nb, ring_use, N, t1, t2, cov_p, cov_n);
+  else
+    analyticPlaneCovariance (nb, mask, fit, t1, t2, cov_p, cov_n);
+}
+
 /** \brief Accumulates samples of (P - P0) and of the normal's tangent components. */
 template <typename S>
 struct SampleCovariance
@@ -219,8 +234,87 @@ struct SampleCovariance
   }
 };
 
-/** \brief Monte Carlo covariances: \a samples re-fits of the inliers with depth noise drawn
-  * from Philox counters (seed, texlet, sample, point block).
+/** \brief Adds a Monte Carlo sample's centre \a P and normal \a N to \a acc: P - P0 and N,
+  * turned toward the measured N0, along the tangents t1, t2.
+  */
+template <typename S> PCL_TEXLET_HD void
+addMonteCarloSample (const Vec3<S> &P, Vec3<S> N, const Vec3<S> &P0, const Vec3<S> &N0, const Vec3<S> &t1,
+                     const Vec3<S> &t2, SampleCovariance<S> &acc)
+{
+  if (dot (N, N0) < S (0))
+    N = -N;
+  acc.add (P - P0, dot (N, t1), dot (N, t2));
+}
+
+/** \brief Monte Carlo sample \a s of normal averaging: the used ring points (\a ring_use)
+  * moved along their rays by depth noise from Philox counters (seed, texlet, s, point block),
+  * and Eq. 5 on them. \return false where the sample has no normal
+  */
+template <typename S> PCL_TEXLET_HD bool
+averagingSample (const Neighbourhood<S> &nb, const bool ring_use[7], std::uint32_t seed, std::uint32_t texlet,
+                 int s, Vec3<S> &P, Vec3<S> &N)
+{
+  float g[4];
+  Vec3<S> ring[7];
+  for (int i = 0; i < 7; ++i)
+  {
+    if ((i & 3) == 0)
+      normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (i >> 2), g);
+    ring[i] = ring_use[i] ? (S (1) + S (g[i & 3]) * nb.ring_sigma[i] / nb.ring[i].z) * nb.ring[i] : nb.ring[i];
+  }
+  P = ring[0];
+  return averagingNormal (ring, ring_use, N);
+}
+
+/** \brief Monte Carlo sample \a s of a PCA or SVD fit: every inlier (\a mask) moved along its
+  * ray by depth noise from Philox counters (seed, texlet, s, point block), and re-fitted.
+  * \param work scratch of 3 * nb.count values (used by the SVD fit only)
+  * \return false where the sample has no plane
+  */
+template <typename S> PCL_TEXLET_HD bool
+inlierSample (const Neighbourhood<S> &nb, const unsigned char *mask, PlaneFitMethod method, std::uint32_t seed,
+              std::uint32_t texlet, int s, const Vec3<S> &P0, S *work, Vec3<S> &P, Vec3<S> &N)
+{
+  float g[4];
+  PlaneMoments<S> m;
+  m.reset (P0);
+  for (int k = 0; k < nb.count; ++k)
+  {
+    if ((k & 3) == 0)
+      normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (k >> 2), g);
+    if (!mask[k])
+      continue;
+    const Vec3<S> p = (S (1) + S (g[k & 3]) * nb.sigma[k] / nb.z[k]) * nb.point (k);
+    if (method == PlaneFitMethod::SVD)
+    {
+      work[3 * m.n + 0] = p.x;
+      work[3 * m.n + 1] = p.y;
+      work[3 * m.n + 2] = p.z;
+    }
+    m.add (p);
+  }
+  PlaneFit<S> fit;
+  bool ok;
+  if (method == PlaneFitMethod::SVD)
+  {
+    const Vec3<S> mean = m.mean ();
+    for (int i = 0; i < m.n; ++i)
+    {
+      work[3 * i + 0] -= mean.x;
+      work[3 * i + 1] -= mean.y;
+      work[3 * i + 2] -= mean.z;
+    }
+    ok = fitPlaneSvd (work, m.n, mean, fit);
+  }
+  else
+    ok = fitPlanePca (m, fit);
+  P = fit.P;
+  N = fit.N;
+  return ok;
+}
+
+/** \brief Monte Carlo covariances: \a samples re-fits (averagingSample() for normal averaging,
+  * inlierSample() for PCA and SVD) around the measured P0 and N0.
   * \param work scratch of 3 * nb.count values (used by the SVD fit only)
   */
 template <typename S> PCL_TEXLET_HD void
@@ -231,66 +325,29 @@ monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, con
 {
   SampleCovariance<S> acc;
   acc.reset ();
-  float g[4];
   for (int s = 0; s < samples; ++s)
   {
     Vec3<S> P, N;
-    bool ok;
-    if (method == PlaneFitMethod::Averaging)
-    {
-      Vec3<S> ring[7];
-      for (int i = 0; i < 7; ++i)
-      {
-        if ((i & 3) == 0)
-          normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (i >> 2), g);
-        ring[i] = ring_use[i] ? (S (1) + S (g[i & 3]) * nb.ring_sigma[i] / nb.ring[i].z) * nb.ring[i] : nb.ring[i];
-      }
-      ok = averagingNormal (ring, ring_use, N);
-      P = ring[0];
-    }
-    else
-    {
-      PlaneMoments<S> m;
-      m.reset (P0);
-      for (int k = 0; k < nb.count; ++k)
-      {
-        if ((k & 3) == 0)
-          normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (k >> 2), g);
-        if (!mask[k])
-          continue;
-        const Vec3<S> p = (S (1) + S (g[k & 3]) * nb.sigma[k] / nb.z[k]) * nb.point (k);
-        if (method == PlaneFitMethod::SVD)
-        {
-          work[3 * m.n + 0] = p.x;
-          work[3 * m.n + 1] = p.y;
-          work[3 * m.n + 2] = p.z;
-        }
-        m.add (p);
-      }
-      PlaneFit<S> fit;
-      if (method == PlaneFitMethod::SVD)
-      {
-        const Vec3<S> mean = m.mean ();
-        for (int i = 0; i < m.n; ++i)
-        {
-          work[3 * i + 0] -= mean.x;
-          work[3 * i + 1] -= mean.y;
-          work[3 * i + 2] -= mean.z;
-        }
-        ok = fitPlaneSvd (work, m.n, mean, fit);
-      }
-      else
-        ok = fitPlanePca (m, fit);
-      P = fit.P;
-      N = fit.N;
-    }
-    if (!ok)
-      continue;
-    if (dot (N, N0) < S (0))
-      N = -N;
-    acc.add (P - P0, dot (N, t1), dot (N, t2));
+    const bool ok = method == PlaneFitMethod::Averaging
+                        ? averagingSample (nb, ring_use, seed, texlet, s, P, N)
+                        : inlierSample (nb, mask, method, seed, texlet, s, P0, work, P, N);
+    if (ok)
+      addMonteCarloSample (P, N, P0, N0, t1, t2, acc);
   }
   acc.finish (cov_p, cov_n);
+}
+
+/** \brief Adds sample \a s of the Gaussian moment model \a md (its normals drawn one at a time,
+  * pcaSampleNormals(), and re-fitted, pcaSampleRefit()) to \a acc, unless it has no plane.
+  */
+template <typename S> PCL_TEXLET_HD void
+addPcaSample (const PcaSampleModel<S> &md, std::uint32_t seed, std::uint32_t texlet, int s, SampleCovariance<S> &acc)
+{
+  S z[kPcaSampleNormals], a1, a2;
+  Vec3<S> dP;
+  pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
+  if (pcaSampleRefit (md, z, dP, a1, a2))
+    acc.add (dP, a1, a2);
 }
 
 /** \brief Monte Carlo covariances of a PCA fit with the Gaussian moment model of
@@ -313,9 +370,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
                          std::uint32_t seed, std::uint32_t texlet, const Vec3<S> &N0, const Vec3<S> &t1,
                          const Vec3<S> &t2, S cov_p[6], S cov_n[3])
 {
-  const Vec3<S> P0 = fit.P;
-  const Vec3<S> axes[3] = {fit.N, fit.e1, fit.e2};
-  const S P0b[3] = {dot (axes[0], P0), dot (axes[1], P0), dot (axes[2], P0)};
+  const PcaModelBasis<S> basis = pcaModelBasis (fit);
   int n = 0;
   for (int k = 0; k < nb.count; ++k)
     n += mask[k] ? 1 : 0;
@@ -350,14 +405,14 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       std::memcpy (&pz, bz, sizeof pz);
       std::memcpy (&sd, bs, sizeof sd);
       std::memcpy (&use, bu, sizeof use);
-      const Lane dx = px - P0.x, dy = py - P0.y, dz = pz - P0.z;
+      const Lane dx = px - basis.P0.x, dy = py - basis.P0.y, dz = pz - basis.P0.z;
       const Lane f = use * sd / pz;
       Lane q[3], a[3];
       for (int i = 0; i < 3; ++i)
       {
-        const Lane qi = axes[i].x * dx + axes[i].y * dy + axes[i].z * dz;
+        const Lane qi = basis.axes[i].x * dx + basis.axes[i].y * dy + basis.axes[i].z * dz;
         q[i] = use * qi;
-        a[i] = f * (qi + P0b[i]);
+        a[i] = f * (qi + basis.P0b[i]);
       }
       addPcaModelTerms (lanes, q, a);
     }
@@ -366,21 +421,16 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   }
 #else
   sums.reset ();
-  for (int k = 0; k < nb.count; ++k)
-  {
-    S q[3], a[3];
-    pcaModelPoint (nb, mask, k, P0, axes, P0b, q, a);
-    sums.add (q, a);
-  }
+  addPcaModelPoints (nb, mask, basis, 0, 1, sums);
 #endif
   PcaSampleModel<S> md;
   preparePcaSampleModel (sums, n, fit, N0, t1, t2, md);
 
   SampleCovariance<S> acc;
   acc.reset ();
+#if !defined(__CUDACC__)
   Vec3<S> dP;
   S a1, a2;
-#if !defined(__CUDACC__)
   constexpr int chunk = 32; // samples whose normals are drawn at once
   std::uint32_t words[4 * chunk];
   S zs[kPcaSampleNormals][chunk]; // normal j of sample first + i at zs[j][i]
@@ -422,12 +472,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   }
 #else
   for (int s = 0; s < samples; ++s)
-  {
-    S z[kPcaSampleNormals];
-    pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
-    if (pcaSampleRefit (md, z, dP, a1, a2))
-      acc.add (dP, a1, a2);
-  }
+    addPcaSample (md, seed, texlet, s, acc);
 #endif
   acc.finish (cov_p, cov_n);
 }

@@ -6,8 +6,8 @@
  * The paper relates "each texlet to all other extracted texlets", so all n (n - 1) directed
  * relations are taken: O(n^2), rows in parallel with OpenMP, one histogram per thread summed at
  * the end. The per-pair math is the header-only kernel kernels/relation_histogram.h, kept
- * free of PCL so that the CUDA backend (pcl::gpu::accumulateRelations, gpu/texlet_relations.h)
- * runs it unchanged; RelationParameters::backend selects it.
+ * free of PCL so that the CUDA backend (pcl::texlet::gpu::accumulateRelations,
+ * gpu/texlet_relations.h) runs it unchanged; RelationParameters::backend selects it.
  */
 #pragma once
 
@@ -29,10 +29,13 @@ namespace texlet
 
 /** \brief Where the pairs of the valid texlets are accumulated: a function that adds every
   * relation of \a in into \a counts (zeroed host arrays, sized as kernels::RelationCounts
-  * says). Empty: OpenMP on the CPU. pcl::gpu::accumulateRelations (gpu/texlet_relations.h, in
-  * the pcl_texlet_gpu library of builds with CUDA) is the CUDA backend:
+  * says). Empty: OpenMP on the CPU. pcl::texlet::gpu::accumulateRelations
+  * (gpu/texlet_relations.h, in the pcl_texlet_gpu library of builds with CUDA) is the CUDA
+  * backend:
   * \code
-  * params.backend = [] (const auto &in, const auto &config, auto &counts) { pcl::gpu::accumulateRelations (in, config, counts); };
+  * params.backend = [] (const auto &in, const auto &config, auto &counts) {
+  *   pcl::texlet::gpu::accumulateRelations (in, config, counts);
+  * };
   * \endcode
   */
 using RelationBackend = std::function<void (const kernels::RelationInput<float> &in, const kernels::RelationConfig &config,

@@ -4,11 +4,13 @@
 #pragma once
 
 #include <pcl_texlet/camera/camera_estimation.h>
+#include <pcl_texlet/camera/valid_point.h>
+#include <pcl_texlet/features/cloud_points.h>
+#include <pcl_texlet/features/frame_settings.h>
+#include <pcl_texlet/features/texlet_estimation.h>
 #include <pcl_texlet/kernels/hex_grid.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
-#include <pcl_texlet/kernels/texlet_kernel.h>
-#include <pcl_texlet/features/texlet_estimation.h>
-#include <pcl_texlet/camera/valid_point.h>
+#include <pcl_texlet/kernels/texlet_stages.h>
 
 #include <pcl/common/point_tests.h>
 #include <pcl/exceptions.h>
@@ -49,171 +51,42 @@ depthSigmaMetres (const NoiseModel &noise, const CameraModel &camera, int u, int
   return noise.sigmaMm (PixelContextBuilder (base).at (u, v, camera.principalPointDistance (u, v), z * 1000.0)) * 1e-3;
 }
 
-/** \brief Gathers a texlet's neighbourhood from an organised cloud into reusable buffers and
-  * runs the kernel on it. One worker per thread: nothing is allocated per texlet.
+/** \brief An organised cloud with its depth noise as a frame of the texlet stages
+  * (kernels/texlet_stages.h): the per-pixel SD image when there is one, the noise model where
+  * not, and the rescale of a texlet's covariances to its own viewing angle.
   */
 template <typename PointInT>
-class TexletWorker
+class CloudFrame : public CloudPoints<PointInT>
 {
 public:
   /** \param sigma_m per-pixel depth SD in metres, or null to evaluate the noise model here
     * \param context the noise model's covariates that a frame does not carry (frame index, f b,
     *        projectors), or null for the defaults
     * \param radius_px per-pixel distance from the principal point (the camera's), or null
+    * \param viewpoint the point the normals face (the viewing rays start there)
     */
-  TexletWorker (const pcl::PointCloud<PointInT> &cloud, const TexletParameters &params, const CameraModel &camera,
-                const NoiseModel &noise, const double *sigma_m, const PixelContext *context = nullptr,
-                const double *radius_px = nullptr)
-    : cloud_ (cloud), params_ (params), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m), radius_px_ (radius_px),
-      context_ (context ? *context : PixelContext ())
+  CloudFrame (const pcl::PointCloud<PointInT> &cloud, const CameraModel &camera, const NoiseModel &noise,
+              const double *sigma_m, const PixelContext *context, const double *radius_px, const float viewpoint[3])
+    : CloudPoints<PointInT> (cloud), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m), radius_px_ (radius_px),
+      context_ (context ? *context : PixelContext ()), viewpoint_ {viewpoint[0], viewpoint[1], viewpoint[2]}
   {
     // Does the model's variance depend on the incidence angle? Then each texlet's covariances
-    // are rescaled to its own viewing angle (see viewingAngleScale).
+    // are rescaled to its own viewing angle (see varianceScale).
     PixelContext a = context_, b = context_;
     a.depth_mm = b.depth_mm = 2000.0;
     b.cos_incidence = 0.5;
     const double sa = noise.sigmaMm (a), sb = noise.sigmaMm (b);
     angle_dependent_ = std::isfinite (sa) && std::isfinite (sb) && sa != sb;
     polynomial_only_ = noise.isPolynomialOnly (polynomial_);
-    // The ring of normal averaging: the centre and its six hexagonal neighbours at `radius`.
-    for (int k = 1; k < 7; ++k)
-      kernels::hexNeighbourOffset (k - 1, params.radius, ring_du_[k], ring_dv_[k]);
-    const int n = kernels::pixelDiscSize (params.radius);
-    du_.resize (n);
-    dv_.resize (n);
-    kernels::pixelDiscOffsets (params.radius, du_.data (), dv_.data (), n);
-    offset_.resize (n);
-    for (int o = 0; o < n; ++o)
-      offset_[o] = static_cast<std::ptrdiff_t> (dv_[o]) * cloud.width + du_[o];
-    x_.resize (n); y_.resize (n); z_.resize (n); s_.resize (n);
-    pixel_.resize (n);
-    mask_.resize (n);
-    work_.resize (kernels::texletWorkSize (n));
-    settings_.ransac_iterations = params.ransac_iterations;
-    settings_.fit = params.fit;
-    settings_.uncertainty = params.uncertainty;
-    settings_.samples = params.samples;
-    settings_.seed = params.seed;
-    settings_.min_support = params.min_support;
-    settings_.viewpoint = {params.viewpoint[0], params.viewpoint[1], params.viewpoint[2]};
   }
 
-  /** \brief Texlet at pixel \a centre into \a out; false (and NaN) where none could be made. */
-  template <typename PointOutT> bool
-  compute (pcl::index_t centre, PointOutT &out)
-  {
-    const int w = static_cast<int> (cloud_.width), h = static_cast<int> (cloud_.height);
-    const int cu = static_cast<int> (centre % w), cv = static_cast<int> (centre / w);
-    kernels::Neighbourhood<double> nb;
-    const bool need_sigma = params_.uncertainty != UncertaintyMethod::None;
-    int count = 0;
-    double zsum = 0.0;
-    // Raw pointers in locals: through the vectors, every store would make the compiler reload
-    // their data pointers (the gather was ~40 instructions a pixel, now about half).
-    double *const xs = x_.data (), *const ys = y_.data (), *const zs = z_.data ();
-    int *const pixels = pixel_.data ();
-    const auto take = [&] (const PointInT &p, int pixel) {
-      xs[count] = p.x; ys[count] = p.y; zs[count] = p.z;
-      pixels[count] = pixel;
-      zsum += p.z;
-      ++count;
-    };
-    const int rad = params_.radius;
-    if (cu >= rad && cv >= rad && cu + rad < w && cv + rad < h)
-    {
-      // The disc lies inside the image: no bounds checks, pixels by their linear offsets.
-      const PointInT *base = &cloud_[centre];
-      const std::ptrdiff_t *const offsets = offset_.data ();
-      const std::size_t n_offsets = offset_.size ();
-      for (std::size_t o = 0; o < n_offsets; ++o)
-      {
-        const PointInT &p = base[offsets[o]];
-        if (isValidDepthPoint (p))
-          take (p, static_cast<int> (centre + offsets[o]));
-      }
-    }
-    else
-      for (std::size_t o = 0; o < du_.size (); ++o)
-      {
-        const int u = cu + du_[o], v = cv + dv_[o];
-        if (u < 0 || v < 0 || u >= w || v >= h)
-          continue;
-        const PointInT &p = cloud_ (u, v);
-        if (isValidDepthPoint (p))
-          take (p, v * w + u);
-      }
-    nb.x = x_.data (); nb.y = y_.data (); nb.z = z_.data ();
-    nb.count = count;
-    if (count == 0)
-      return fail (centre, out);
-
-    // Ring for normal averaging: the centre and its six hexagonal neighbours at `radius`.
-    for (int k = 0; k < 7; ++k)
-    {
-      const int u = cu + ring_du_[k], v = cv + ring_dv_[k];
-      nb.ring_valid[k] = false;
-      nb.ring[k] = {0, 0, 0};
-      nb.ring_sigma[k] = 0;
-      if (u < 0 || v < 0 || u >= w || v >= h || !isValidDepthPoint (cloud_ (u, v)))
-        continue;
-      const PointInT &p = cloud_ (u, v);
-      nb.ring[k] = {p.x, p.y, p.z};
-      nb.ring_valid[k] = true;
-      // Only the uncertainty of normal averaging reads the ring's SDs: without uncertainty,
-      // evaluating the noise model 7 times a texlet was 7 % of the frame's instructions.
-      nb.ring_sigma[k] = need_sigma ? sigmaAt (u, v, p.z) : 0.0;
-    }
-    if (need_sigma)
-    {
-      for (int i = 0; i < count; ++i)
-      {
-        const double s = sigma_m_ ? sigma_m_[pixel_[i]] : std::numeric_limits<double>::quiet_NaN ();
-        s_[i] = std::isfinite (s) ? s : modelSigma (pixel_[i] % w, pixel_[i] / w, z_[i]);
-      }
-      nb.sigma = s_.data ();
-    }
-    settings_.threshold = params_.ransac_threshold > 0.0
-                              ? params_.ransac_threshold
-                              : params_.threshold_sigmas * modelSigma (cu, cv, zsum / count);
-
-    kernels::TexletResult<double> r;
-    computeTexletKernel (nb, settings_, static_cast<std::uint32_t> (centre), mask_.data (), work_.data (), r);
-    if (!r.ok)
-      return fail (centre, out);
-
-    out.x = static_cast<float> (r.P.x); out.y = static_cast<float> (r.P.y); out.z = static_cast<float> (r.P.z);
-    out.normal_x = static_cast<float> (r.N.x); out.normal_y = static_cast<float> (r.N.y);
-    out.normal_z = static_cast<float> (r.N.z);
-    out.curvature = static_cast<float> (r.curvature);
-    out.radius = static_cast<float> (r.radius);
-    out.support = static_cast<std::uint32_t> (r.support);
-    if (need_sigma && angle_dependent_)
-    {
-      const double f = viewingAngleScale (cu, cv, r);
-      for (double &c : r.cov_p)
-        c *= f;
-      for (double &c : r.cov_n)
-        c *= f;
-    }
-    setCovariances (r.cov_p, r.cov_n, out);
-    out.pixel_index = static_cast<std::uint32_t> (centre);
-    meanColour (count, out);
-    return true;
-  }
-
-private:
-  /** Depth SD in metres at pixel (u, v) and depth z (metres), from the per-pixel image when
-    * there is one. */
+  /** Depth SD in metres of the point at pixel \a index with depth z (metres), from the
+    * per-pixel image when there is one. */
   double
-  sigmaAt (int u, int v, double z) const
+  sigma (int index, double z) const
   {
-    if (sigma_m_)
-    {
-      const double s = sigma_m_[static_cast<std::size_t> (v) * cloud_.width + u];
-      if (std::isfinite (s))
-        return s;
-    }
-    return modelSigma (u, v, z);
+    const double s = sigma_m_ ? sigma_m_[index] : std::numeric_limits<double>::quiet_NaN ();
+    return std::isfinite (s) ? s : modelSigma (index % this->width (), index / this->width (), z);
   }
 
   /** Depth SD in metres from the noise model at pixel (u, v) and depth z (metres). */
@@ -222,7 +95,7 @@ private:
   {
     if (polynomial_only_) // the same bits without the noise terms' virtual calls
     {
-      const double r = radius_px_ ? radius_px_[static_cast<std::size_t> (v) * cloud_.width + u]
+      const double r = radius_px_ ? radius_px_[static_cast<std::size_t> (v) * this->width () + u]
                                   : camera_.principalPointDistance (u, v);
       return kernels::polynomialSigmaMm (polynomial_, r, z * 1000.0, noise_.minSigmaMm ()) * 1e-3;
     }
@@ -236,9 +109,11 @@ private:
     * propagation is linear in the variances) Sigma_P and Sigma_N.
     */
   double
-  viewingAngleScale (int cu, int cv, const kernels::TexletResult<double> &r) const
+  varianceScale (int cu, int cv, const kernels::TexletResult<double> &r) const
   {
-    const double rx = r.P.x - params_.viewpoint[0], ry = r.P.y - params_.viewpoint[1], rz = r.P.z - params_.viewpoint[2];
+    if (!angle_dependent_)
+      return 1.0;
+    const double rx = r.P.x - viewpoint_[0], ry = r.P.y - viewpoint_[1], rz = r.P.z - viewpoint_[2];
     const double rn = std::sqrt (rx * rx + ry * ry + rz * rz);
     const double nn = std::sqrt (r.N.x * r.N.x + r.N.y * r.N.y + r.N.z * r.N.z);
     if (!(rn > 0) || !(nn > 0))
@@ -255,64 +130,76 @@ private:
     return std::isfinite (f) && f > 0 ? f : 1.0;
   }
 
-  template <typename PointOutT> static void
-  setCovariances (const double p[6], const double n[3], PointOutT &out)
-  {
-    out.cov_p_xx = static_cast<float> (p[0]); out.cov_p_xy = static_cast<float> (p[1]);
-    out.cov_p_xz = static_cast<float> (p[2]); out.cov_p_yy = static_cast<float> (p[3]);
-    out.cov_p_yz = static_cast<float> (p[4]); out.cov_p_zz = static_cast<float> (p[5]);
-    out.cov_n_11 = static_cast<float> (n[0]); out.cov_n_12 = static_cast<float> (n[1]);
-    out.cov_n_22 = static_cast<float> (n[2]);
-  }
-
-  template <typename PointOutT> void
-  meanColour (int count, PointOutT &out) const
-  {
-    if constexpr (pcl::traits::has_color_v<PointInT>)
-    {
-      unsigned r = 0, g = 0, b = 0, n = 0;
-      for (int i = 0; i < count; ++i)
-        if (mask_[i])
-        {
-          const PointInT &p = cloud_[pixel_[i]];
-          r += p.r; g += p.g; b += p.b; ++n;
-        }
-      out.r = static_cast<std::uint8_t> ((r + n / 2) / n);
-      out.g = static_cast<std::uint8_t> ((g + n / 2) / n);
-      out.b = static_cast<std::uint8_t> ((b + n / 2) / n);
-      out.a = 255;
-    }
-    else
-      out.rgba = 0;
-  }
-
-  template <typename PointOutT> static bool
-  fail (pcl::index_t centre, PointOutT &out)
-  {
-    const float nan = std::numeric_limits<float>::quiet_NaN ();
-    out.x = out.y = out.z = nan;
-    out.normal_x = out.normal_y = out.normal_z = nan;
-    out.curvature = out.radius = nan;
-    out.rgba = 0;
-    out.support = 0;
-    const double cn[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
-    setCovariances (cn, cn, out);
-    out.pixel_index = static_cast<std::uint32_t> (centre);
-    return false;
-  }
-
-  const pcl::PointCloud<PointInT> &cloud_;
-  const TexletParameters &params_;
+private:
   const CameraModel &camera_;
   const NoiseModel &noise_;
   const double *sigma_m_;
   const double *radius_px_; // per-pixel distance from the principal point, or null
   PixelContext context_;
+  float viewpoint_[3];
   bool angle_dependent_ = false;
-  bool polynomial_only_ = false;         // the noise model is the paper's polynomial alone
+  bool polynomial_only_ = false; // the noise model is the paper's polynomial alone
   kernels::PolynomialCoefficients polynomial_ = {};
-  int ring_du_[7] = {0, 0, 0, 0, 0, 0, 0}, ring_dv_[7] = {0, 0, 0, 0, 0, 0, 0};
-  kernels::TexletSettings<double> settings_;
+};
+
+/** \brief kernels::frameTexlet's kernel on the CPU: computeTexletKernel, the build the processor runs. */
+struct LibraryTexletKernel
+{
+  void
+  operator() (const kernels::Neighbourhood<double> &nb, const kernels::TexletSettings<double> &st, std::uint32_t texlet,
+              unsigned char *mask, double *work, kernels::TexletResult<double> &out) const
+  {
+    computeTexletKernel (nb, st, texlet, mask, work, out);
+  }
+};
+
+/** \brief Runs the texlet stages on an organised cloud with reusable scratch. One worker per
+  * thread: nothing is allocated per texlet.
+  */
+template <typename PointInT>
+class TexletWorker
+{
+public:
+  /** \param sigma_m, context, radius_px, viewpoint as for CloudFrame */
+  TexletWorker (const pcl::PointCloud<PointInT> &cloud, const TexletParameters &params, const CameraModel &camera,
+                const NoiseModel &noise, const double *sigma_m, const PixelContext *context,
+                const double *radius_px, const float viewpoint[3])
+    : frame_ (cloud, camera, noise, sigma_m, context, radius_px, viewpoint)
+  {
+    const int n = kernels::pixelDiscSize (params.radius);
+    du_.resize (n);
+    dv_.resize (n);
+    kernels::pixelDiscOffsets (params.radius, du_.data (), dv_.data (), n);
+    offset_.resize (n);
+    for (int o = 0; o < n; ++o)
+      offset_[o] = static_cast<std::ptrdiff_t> (dv_[o]) * cloud.width + du_[o];
+    x_.resize (n); y_.resize (n); z_.resize (n); s_.resize (n);
+    pixel_.resize (n);
+    mask_.resize (n);
+    work_.resize (kernels::texletWorkSize (n));
+    kernels::PixelDisc disc;
+    disc.du = du_.data ();
+    disc.dv = dv_.data ();
+    disc.linear = offset_.data ();
+    disc.size = n;
+    disc.radius = params.radius;
+    settings_ = frameSettings<double> (params, viewpoint, disc);
+    scratch_ = {x_.data (), y_.data (), z_.data (), s_.data (), work_.data (), pixel_.data (), mask_.data ()};
+  }
+
+  /** \brief Texlet at pixel \a centre into \a out; false (and NaN) where none could be made. */
+  template <typename PointOutT> bool
+  compute (pcl::index_t centre, PointOutT &out)
+  {
+    const int w = frame_.width ();
+    return kernels::frameTexlet (frame_, settings_, static_cast<int> (centre % w), static_cast<int> (centre / w),
+                                 scratch_, LibraryTexletKernel (), out);
+  }
+
+private:
+  CloudFrame<PointInT> frame_;
+  kernels::FrameSettings<double> settings_;
+  kernels::TexletScratch<double> scratch_;
   std::vector<int> du_, dv_;
   std::vector<std::ptrdiff_t> offset_; // dv * width + du of each disc pixel
   std::vector<double> x_, y_, z_, s_, work_;
@@ -347,7 +234,8 @@ computeTexlet (const pcl::PointCloud<PointInT> &cloud, pcl::index_t centre, cons
     msg << "pcl::computeTexlet: centre index " << centre << " is outside the cloud (" << cloud.size () << " points)";
     throw pcl::BadArgumentException (msg.str ());
   }
-  texlet::detail::TexletWorker<PointInT> worker (cloud, params, camera, noise, nullptr);
+  texlet::detail::TexletWorker<PointInT> worker (cloud, params, camera, noise, nullptr, nullptr, nullptr,
+                                                 params.viewpoint);
   return worker.compute (centre, texlet);
 }
 
@@ -410,13 +298,34 @@ TexletEstimation<PointInT, PointOutT>::setViewPoint (float vpx, float vpy, float
   p.viewpoint[2] = vpz;
   texlet::validate (p);
   params_ = p;
+  use_sensor_origin_ = false;
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::getViewPoint (float &vpx, float &vpy, float &vpz) const
+{
+  float vp[3];
+  viewPoint (vp);
+  vpx = vp[0];
+  vpy = vp[1];
+  vpz = vp[2];
+}
+
+template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::viewPoint (float vp[3]) const
+{
+  for (int i = 0; i < 3; ++i)
+    vp[i] = !use_sensor_origin_ ? params_.viewpoint[i] : input_ ? input_->sensor_origin_.coeff (i) : 0.0f;
 }
 
 template <typename PointInT, typename PointOutT> void
 TexletEstimation<PointInT, PointOutT>::setParameters (const texlet::TexletParameters &params)
 {
   texlet::validate (params);
+  const bool new_viewpoint = !std::equal (params.viewpoint, params.viewpoint + 3, params_.viewpoint);
   params_ = params;
+  if (new_viewpoint)
+    use_sensor_origin_ = false;
 }
 
 template <typename PointInT, typename PointOutT> bool
@@ -469,6 +378,16 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
   if (!any_valid)
     throw pcl::ComputeFailedException ("pcl::TexletEstimation: the input cloud has no valid point (all depth is "
                                        "invalid: NaN, infinite or not in front of the camera)");
+
+  float viewpoint[3];
+  viewPoint (viewpoint);
+  if (!std::isfinite (viewpoint[0]) || !std::isfinite (viewpoint[1]) || !std::isfinite (viewpoint[2]))
+  {
+    std::ostringstream msg;
+    msg << "pcl::TexletEstimation: the input cloud's sensor_origin_ (" << viewpoint[0] << ", " << viewpoint[1] << ", "
+        << viewpoint[2] << "), the viewpoint the normals face, is not finite; set one with setViewPoint";
+    throw pcl::BadArgumentException (msg.str ());
+  }
 
   texlet::CameraModel::ConstPtr camera = camera_;
   if (!camera)
@@ -529,7 +448,7 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
         double *const row = sigma_image_.data () + static_cast<std::size_t> (v) * w;
         if (polynomial_only)
           // The paper's model (the default): the same bits as NoiseModel::sigmaMm without its
-          // virtual calls, which were 20 % of an analytic frame's instructions.
+          // virtual calls, a large part of an analytic frame's cost (docs/benchmarks.md).
         {
           const double *const radius = radius_image_.data () + static_cast<std::size_t> (v) * w;
           const PointInT *const points = &cloud (0, v);
@@ -551,7 +470,8 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
     }
     texlet::detail::TexletWorker<PointInT> worker (cloud, params_, *camera, noise_,
                                                    need_sigma ? sigma_image_.data () : nullptr, &noise_context_,
-                                                   polynomial_only && need_sigma ? radius_image_.data () : nullptr);
+                                                   polynomial_only && need_sigma ? radius_image_.data () : nullptr,
+                                                   viewpoint);
 #pragma omp for schedule(dynamic, 64)
     for (std::ptrdiff_t i = 0; i < n; ++i)
       made += worker.compute ((*indices_)[i], output[i]) ? 1 : 0;

@@ -2,7 +2,7 @@
  * pcl_texlet GPU: CUDA runtime errors as exceptions.
  *
  * Every CUDA runtime call of the GPU backend goes through PCL_TEXLET_CUDA_CHECK, so a failure
- * surfaces as a pcl::gpu::CudaError that names the call, CUDA's message and the error code,
+ * surfaces as a pcl::texlet::gpu::CudaError that names the call, CUDA's message and the error code,
  * instead of a status code nobody reads.
  */
 #pragma once
@@ -14,6 +14,8 @@
 #include <string>
 
 namespace pcl
+{
+namespace texlet
 {
 namespace gpu
 {
@@ -59,12 +61,15 @@ cudaCheck (cudaError_t code, const char *call, const char *file, int line)
 } // namespace detail
 
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl
 
-/** \brief Runs a CUDA runtime call and throws pcl::gpu::CudaError naming it if it fails. */
-#define PCL_TEXLET_CUDA_CHECK(call) ::pcl::gpu::detail::cudaCheck ((call), #call, __FILE__, __LINE__)
+/** \brief Runs a CUDA runtime call and throws pcl::texlet::gpu::CudaError naming it if it fails. */
+#define PCL_TEXLET_CUDA_CHECK(call) ::pcl::texlet::gpu::detail::cudaCheck ((call), #call, __FILE__, __LINE__)
 
 namespace pcl
+{
+namespace texlet
 {
 namespace gpu
 {
@@ -81,4 +86,5 @@ cudaDeviceCount ()
   return n;
 }
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl

@@ -4,8 +4,9 @@
  *
  * DeviceArray<T> is a typed 1D buffer, DeviceArray2D<T> a pitched 2D one. Like PCL's, copies
  * are shallow and share the buffer (reference counted); the memory is freed when the last
- * copy goes. Every CUDA error becomes a pcl::gpu::CudaError naming the call. Sizes are in
- * elements unless a name says bytes.
+ * copy goes. Every CUDA error becomes a pcl::texlet::gpu::CudaError naming the call. Sizes are
+ * in elements unless a name says bytes. They live in pcl::texlet::gpu, not in PCL's pcl::gpu,
+ * so a program can use PCL's gpu modules and these side by side.
  */
 #pragma once
 
@@ -22,6 +23,8 @@
 #include <vector>
 
 namespace pcl
+{
+namespace texlet
 {
 namespace gpu
 {
@@ -160,7 +163,7 @@ public:
     if (rows < 0 || cols < 0)
     {
       std::ostringstream msg;
-      msg << "pcl::gpu::DeviceArray2D::create: negative size " << rows << " x " << cols;
+      msg << "pcl::texlet::gpu::DeviceArray2D::create: negative size " << rows << " x " << cols;
       throw std::invalid_argument (msg.str ());
     }
     if (rows == rows_ && cols == cols_ && data_)
@@ -202,7 +205,7 @@ public:
     if (cols <= 0 || host.size () % static_cast<std::size_t> (cols) != 0)
     {
       std::ostringstream msg;
-      msg << "pcl::gpu::DeviceArray2D::upload: " << host.size () << " elements are not rows of " << cols << " columns";
+      msg << "pcl::texlet::gpu::DeviceArray2D::upload: " << host.size () << " elements are not rows of " << cols << " columns";
       throw std::invalid_argument (msg.str ());
     }
     upload (host.data (), cols * sizeof (T), static_cast<int> (host.size () / cols), cols);
@@ -269,4 +272,5 @@ private:
 };
 
 } // namespace gpu
+} // namespace texlet
 } // namespace pcl

@@ -1,5 +1,5 @@
 /*
- * pcl_texlet GPU: a synthetic 16-bit depth frame with closed-form geometry, for the GPU tests
+ * pcl_texlet GPU tests: a synthetic 16-bit depth frame with closed-form geometry, for the GPU tests
  * and pcl_texlet_gpu_bench on machines without PCL (the simulator needs PCL).
  *
  * A tilted wall and a sphere in front of it, seen by a pinhole camera; depth noise drawn from
@@ -15,13 +15,13 @@
 #include <cstdint>
 #include <vector>
 
-namespace pcl
-{
-namespace gpu
+namespace pcl_texlet_test
 {
 
 struct SyntheticFrame
 {
+  using DeviceCamera = pcl::texlet::gpu::DeviceCamera;
+
   int width = 640, height = 480;
   DeviceCamera camera = DeviceCamera::pinhole (580.0, 580.0, 319.5, 239.5);
   double wall_normal[3] = {0.25, -0.15, -1.0}; ///< towards the camera (normalised on use)
@@ -57,15 +57,15 @@ struct SyntheticFrame
     std::vector<std::uint16_t> depth (static_cast<std::size_t> (width) * height, 0);
     double n[3], d;
     wall (n, d);
-    const DeviceNoise model;
+    const pcl::texlet::gpu::DeviceNoise model;
     for (int v = 0; v < height; ++v)
       for (int u = 0; u < width; ++u)
       {
         const std::uint32_t pixel = static_cast<std::uint32_t> (v * width + u);
         if (u > 40 && u < 90 && v > 300 && v < 400)
           continue; // a region without readings (a black or too-oblique surface)
-        const auto w = texlet::kernels::philoxWords (seed, pixel, 0u, 0u, texlet::kernels::RandomStream::SensorNoise);
-        if (texlet::kernels::uniformFloat (w.v[0]) < dropout)
+        const auto w = pcl::texlet::kernels::philoxWords (seed, pixel, 0u, 0u, pcl::texlet::kernels::RandomStream::SensorNoise);
+        if (pcl::texlet::kernels::uniformFloat (w.v[0]) < dropout)
           continue;
         double rx, ry;
         camera.pixelToRay (u, v, rx, ry);
@@ -99,5 +99,4 @@ struct SyntheticFrame
   }
 };
 
-} // namespace gpu
-} // namespace pcl
+} // namespace pcl_texlet_test

@@ -1,5 +1,5 @@
 /*
- * pcl_texlet GPU: noisy texlets on the faces of the paper's Table 2 box, with their face labels
+ * pcl_texlet GPU tests: noisy texlets on the faces of the paper's Table 2 box, with their face labels
  * and the box's expected relations, for the relation tests and the benchmark on machines
  * without PCL (the simulator needs PCL).
  */
@@ -12,22 +12,20 @@
 #include <random>
 #include <vector>
 
-namespace pcl
-{
-namespace gpu
+namespace pcl_texlet_test
 {
 
 /** \brief Texlets as the relation kernels take them (unit normals), labelled by face. */
 struct BoxTexlets
 {
-  std::vector<texlet::kernels::Vec3<float>> centre, normal;
+  std::vector<pcl::texlet::kernels::Vec3<float>> centre, normal;
   std::vector<int> label; ///< face 0-4: -x, +x, -y, +y, top
 
   /** \brief The kernels' view of these texlets, with or without the labels. */
-  texlet::kernels::RelationInput<float>
+  pcl::texlet::kernels::RelationInput<float>
   input (bool labelled) const
   {
-    texlet::kernels::RelationInput<float> in;
+    pcl::texlet::kernels::RelationInput<float> in;
     in.centre = centre.data ();
     in.normal = normal.data ();
     in.label = labelled ? label.data () : nullptr;
@@ -76,10 +74,10 @@ syntheticBoxTexlets (int per_face, std::uint32_t seed)
 /** \brief The box's expected relations (10 degrees, 5 mm boxes): a face with itself (0 deg,
   * 0 mm), opposite faces (180 deg at 128, 112 and 240 mm), orthogonal faces (90 deg, 0-240 mm).
   */
-inline std::vector<texlet::kernels::RelationBox>
+inline std::vector<pcl::texlet::kernels::RelationBox>
 syntheticBoxRelations ()
 {
-  std::vector<texlet::kernels::RelationBox> boxes (5);
+  std::vector<pcl::texlet::kernels::RelationBox> boxes (5);
   boxes[0].angle_deg = 0.0f;
   boxes[1].angle_deg = 180.0f;
   boxes[1].distance_min = boxes[1].distance_max = 0.128f;
@@ -92,5 +90,4 @@ syntheticBoxRelations ()
   return boxes;
 }
 
-} // namespace gpu
-} // namespace pcl
+} // namespace pcl_texlet_test
