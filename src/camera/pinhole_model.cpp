@@ -1,9 +1,9 @@
 #include <pcl_texlet/camera/pinhole_model.h>
+#include <pcl_texlet/kernels/pinhole_ray.h>
 
 #include <pcl/exceptions.h>
 
 #include <cmath>
-#include <limits>
 #include <sstream>
 
 namespace pcl
@@ -44,21 +44,13 @@ PinholeModel::fromCameraInfo (const CameraInfo &info)
 bool
 PinholeModel::hasDistortion () const
 {
-  return d_.k1 != 0 || d_.k2 != 0 || d_.p1 != 0 || d_.p2 != 0 || d_.k3 != 0;
+  return kernels::hasDistortion (d_);
 }
 
 void
 PinholeModel::pixelToRay (double u, double v, double &x, double &y) const
 {
-  const double xd = (u - cx_) / fx_, yd = (v - cy_) / fy_;
-  if (!hasDistortion ())
-  {
-    x = xd;
-    y = yd;
-    return;
-  }
-  if (!kernels::undistortPlumbBob (d_, xd, yd, x, y))
-    x = y = std::numeric_limits<double>::quiet_NaN ();
+  kernels::pinholeRay (fx_, fy_, cx_, cy_, d_, u, v, x, y);
 }
 
 void

@@ -1,5 +1,5 @@
 /*
- * pcl_texlet: the texlet point type (DESIGN.md section 4).
+ * pcl_texlet: the texlet point type, pcl::Texlet (its fields: the README, "What a texlet is").
  */
 #pragma once
 
