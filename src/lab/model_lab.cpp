@@ -1,4 +1,5 @@
 #include <pcl_texlet/lab/model_lab.h>
+#include <pcl_texlet/common/parallel_for.h>
 #include <pcl_texlet/kernels/structured_light.h>
 #include <pcl_texlet/noise/effect_registry.h>
 #include <pcl_texlet/noise/noise_terms.h>
@@ -15,7 +16,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -1283,37 +1283,6 @@ ModelLab::addEffect (const NoiseModel &current, const std::string &effect) const
   return fitWithEffect (base, current, effect, d, recordings_, settings_, nested);
 }
 
-namespace
-{
-
-/** Runs task (i) for i in [0, n) in parallel over \a threads, dynamically scheduled; the first
-  * exception thrown is rethrown after the loop (an exception must not leave an OpenMP region).
-  */
-template <typename Task>
-void
-parallelTasks (int n, int threads, const Task &task)
-{
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-  for (int i = 0; i < n; ++i)
-  {
-    try
-    {
-      task (i);
-    }
-    catch (...)
-    {
-#pragma omp critical(lab_error)
-      if (!error)
-        error = std::current_exception ();
-    }
-  }
-  if (error)
-    std::rethrow_exception (error);
-}
-
-} // namespace
-
 std::vector<Candidate>
 ModelLab::rankCandidates (const NoiseModel &current) const
 {
@@ -1398,7 +1367,7 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     set.given = base;
   }
   say ("lab: refitting the current model on the bootstrap data sets");
-  parallelTasks (S - 1, threads, [&] (int i) { refit (sets[i + 1]); });
+  parallelFor (S - 1, threads, true, [&] (int i) { refit (sets[i + 1]); });
 
   // Every fit of a candidate on every data set is one task, so that the two threads stay busy
   // to the end (disparity_quantization, fitted twice, costs more than the others together).
@@ -1426,7 +1395,7 @@ ModelLab::rankCandidates (const NoiseModel &current) const
   std::iota (order.begin (), order.end (), 0);
   std::stable_partition (order.begin (), order.end (),
                          [&] (int i) { return effectInfo (out[fits[i].candidate].effect).quantises; });
-  parallelTasks (static_cast<int> (fits.size ()), threads, [&] (int i) {
+  parallelFor (static_cast<int> (fits.size ()), threads, true, [&] (int i) {
     Fit &f = fits[order[i]];
     const DataSet &set = sets[f.set];
     f.model = fitWithEffect (set.fitted, set.given, out[f.candidate].effect, *set.fit, recordings_, settings_,
@@ -1448,7 +1417,7 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     else if (fits[i].objective < fits[chosen.back ()].objective)
       chosen.back () = i;
   }
-  parallelTasks (static_cast<int> (chosen.size ()), threads, [&] (int i) {
+  parallelFor (static_cast<int> (chosen.size ()), threads, true, [&] (int i) {
     const Fit &f = fits[chosen[i]];
     const DataSet &set = sets[f.set];
     const double gain = set.fitted_score - scoreOn (f.model, *set.score, recordings_);
