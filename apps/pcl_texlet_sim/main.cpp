@@ -30,8 +30,6 @@
 #include <iostream>
 #include <sstream>
 
-#include <unistd.h>
-
 namespace fs = std::filesystem;
 using namespace pcl::texlet::sim;
 
@@ -167,7 +165,7 @@ makeSensor (const Options &o)
   return s;
 }
 
-using pcl_texlet_app::FolderGuard;
+using pcl_texlet_app::OutputFolder;
 
 int
 run (int argc, char **argv)
@@ -291,14 +289,11 @@ run (int argc, char **argv)
   else
   {
     // Several recordings: all of them inside one temporary folder renamed at the end.
-    const fs::path tmp = out.parent_path () / ("." + out.filename ().string () + ".tmp-" + std::to_string (::getpid ()));
-    fs::remove_all (tmp, ec);
-    if (!fs::create_directory (tmp, ec))
-      throw pcl::IOException ("cannot create the temporary folder '" + tmp.string () + "': " + ec.message ());
-    FolderGuard guard (tmp);
+    OutputFolder folder (out, o.output);
     for (const std::size_t k : sensors)
-      writeSimulatedRecording (sim, setup, k, 0, o.frames, (tmp / ("sensor_" + std::to_string (k))).string ());
-    pcl_texlet_app::publishFolder (tmp, out, o.output, guard);
+      writeSimulatedRecording (sim, setup, k, 0, o.frames,
+                               (folder.temporary () / ("sensor_" + std::to_string (k))).string ());
+    folder.publish ();
   }
   const double seconds = std::chrono::duration<double> (std::chrono::steady_clock::now () - t0).count ();
 
