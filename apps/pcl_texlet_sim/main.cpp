@@ -1,7 +1,7 @@
 /*
- * pcl_texlet_sim: simulated Kinect recordings (DESIGN.md section 4 recording folders) of a
- * tilted wall, the paper's box on a table, or a mesh, with the paper's noise and any of the
- * physical effects of DESIGN.md section 5.
+ * pcl_texlet_sim: simulated Kinect recordings (recording folders, docs/sensor_model.md section 2)
+ * of a tilted wall, the paper's box on a table, or a mesh, with the paper's noise and any of the
+ * physical effects of docs/sensor_model.md section 6.
  *
  * Exit codes: 0 success, 2 bad input or options (one line on stderr), 1 unexpected failure.
  * The output is written to a hidden temporary folder and renamed when complete, so a failed
@@ -66,7 +66,8 @@ struct Options
 void
 printEffects ()
 {
-  std::cout << "Effects (DESIGN.md section 5); switch on with --effect NAME, set with --set NAME.PARAMETER=VALUE\n";
+  std::cout << "Effects (docs/sensor_model.md section 6); switch on with --effect NAME, set with "
+               "--set NAME.PARAMETER=VALUE\n";
   for (const auto &e : effectCatalogue ())
   {
     std::cout << "\n  " << e.name << ": " << e.summary << "\n";
@@ -172,7 +173,7 @@ run (int argc, char **argv)
 {
   Options o;
   CLI::App app ("Simulate Kinect-class structured-light depth recordings: the paper's depth noise plus any of the\n"
-                "physical effects of DESIGN.md section 5 (see --list-effects).\n"
+                "physical effects of docs/sensor_model.md section 6 (see --list-effects).\n"
                 "OUTPUT: a recording folder (camera.yaml, depth/000000.png ..., meta.yaml); with --record all and\n"
                 "several sensors, a folder holding one recording per sensor (sensor_0, sensor_1, ...).",
                 kName);
