@@ -1,23 +1,9 @@
 #include "studies.h"
-#include "measurements.h"
 
-#include <pcl_texlet/kernels/structured_light.h>
 #include <pcl_texlet/noise/effects/axial_quadratic.h>
-#include <pcl_texlet/simulation/effects.h>
-#include <pcl_texlet/simulation/scene_setup.h>
-
-#include <cmath>
-#include <sstream>
-#include <vector>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
 
 void
-measureAxialQuadratic (Figures &figures)
+pcl_texlet_sensor_figures::measureAxialQuadratic (Figures &figures)
 {
   std::ostringstream out;
   const double sigma_px = effects::AxialQuadratic::SimParameters ().sigma_px;
@@ -62,5 +48,3 @@ measureAxialQuadratic (Figures &figures)
   }
   figures.write ("axial_quadratic.dat", out.str ());
 }
-
-} // namespace pcl_texlet_sensor_figures

@@ -1,20 +1,7 @@
 #include "studies.h"
-#include "measurements.h"
-
-#include <pcl_texlet/simulation/scene_setup.h>
-
-#include <algorithm>
-#include <sstream>
-#include <vector>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
 
 void
-measureBaseNoise (Figures &figures)
+pcl_texlet_sensor_figures::measureBaseNoise (Figures &figures)
 {
   const std::vector<double> distances = {0.8, 1.2, 1.6};
   std::vector<RadialProfile> measured (distances.size ()), predicted (distances.size ());
@@ -60,5 +47,3 @@ measureBaseNoise (Figures &figures)
                  blockMap (sd, st.width, st.height, std::max (1, figures.options ().width / 160)));
   figures.note ("base_noise", "sd_mean_mm_at_1.5m", meanOf (sd));
 }
-
-} // namespace pcl_texlet_sensor_figures

@@ -1,23 +1,9 @@
 #include "studies.h"
-#include "measurements.h"
 
 #include <pcl_texlet/noise/effects/depth_distortion.h>
-#include <pcl_texlet/simulation/effects.h>
-#include <pcl_texlet/simulation/scene_setup.h>
-
-#include <algorithm>
-#include <cmath>
-#include <sstream>
-#include <vector>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
 
 void
-measureDepthDistortion (Figures &figures)
+pcl_texlet_sensor_figures::measureDepthDistortion (Figures &figures)
 {
   const effects::DepthDistortion::SimParameters p;
   const std::vector<double> distances = {1.0, 1.5, 2.0};
@@ -95,5 +81,3 @@ measureDepthDistortion (Figures &figures)
   }
   figures.write ("depth_distortion_row.dat", out.str ());
 }
-
-} // namespace pcl_texlet_sensor_figures

@@ -1,25 +1,11 @@
 #include "studies.h"
-#include "measurements.h"
 
-#include <pcl_texlet/kernels/structured_light.h>
 #include <pcl_texlet/noise/effects/disparity_quantization.h>
-#include <pcl_texlet/simulation/effects.h>
-#include <pcl_texlet/simulation/scene_setup.h>
 
-#include <algorithm>
-#include <cmath>
 #include <map>
-#include <sstream>
-#include <vector>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
 
 void
-measureDisparityQuantization (Figures &figures)
+pcl_texlet_sensor_figures::measureDisparityQuantization (Figures &figures)
 {
   const double step = effects::DisparityQuantization::SimParameters ().step_px;
   const double z = 1.5;
@@ -100,5 +86,3 @@ measureDisparityQuantization (Figures &figures)
   figures.note (effects::DisparityQuantization::kName, "max_abs_mean_error_quantised_mm",
                 *std::max_element (errs.begin (), errs.end ()));
 }
-
-} // namespace pcl_texlet_sensor_figures

@@ -1,21 +1,9 @@
 #include "studies.h"
-#include "measurements.h"
 
 #include <pcl_texlet/noise/effects/incidence_angle.h>
-#include <pcl_texlet/simulation/effects.h>
-#include <pcl_texlet/simulation/scene_setup.h>
-
-#include <sstream>
-#include <vector>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
 
 void
-measureIncidenceAngle (Figures &figures)
+pcl_texlet_sensor_figures::measureIncidenceAngle (Figures &figures)
 {
   const effects::IncidenceAngle::SimParameters p;
   std::ostringstream out;
@@ -64,5 +52,3 @@ measureIncidenceAngle (Figures &figures)
   }
   figures.write ("incidence_angle.dat", out.str ());
 }
-
-} // namespace pcl_texlet_sensor_figures

@@ -1,23 +1,9 @@
 #include "studies.h"
-#include "measurements.h"
 
 #include <pcl_texlet/noise/effects/interference.h>
-#include <pcl_texlet/simulation/effects.h>
-#include <pcl_texlet/simulation/scene_setup.h>
-
-#include <algorithm>
-#include <sstream>
-#include <string>
-#include <vector>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
 
 void
-measureInterference (Figures &figures)
+pcl_texlet_sensor_figures::measureInterference (Figures &figures)
 {
   const effects::Interference::SimParameters p;
   std::ostringstream out;
@@ -85,5 +71,3 @@ measureInterference (Figures &figures)
   }
   figures.write ("interference.dat", out.str ());
 }
-
-} // namespace pcl_texlet_sensor_figures

@@ -1,27 +1,13 @@
 #include "studies.h"
-#include "measurements.h"
 
 #include <pcl_texlet/camera/camera_model.h>
 #include <pcl_texlet/camera/pinhole_model.h>
 #include <pcl_texlet/noise/effects/intrinsics.h>
-#include <pcl_texlet/simulation/effects.h>
-#include <pcl_texlet/simulation/scene_setup.h>
 
 #include <Eigen/Eigenvalues>
 
-#include <algorithm>
-#include <cmath>
-#include <sstream>
-#include <vector>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
-
 void
-measureIntrinsics (Figures &figures)
+pcl_texlet_sensor_figures::measureIntrinsics (Figures &figures)
 {
   const effects::Intrinsics::SimParameters p;
   SimulationSettings s = figures.settings ();
@@ -113,5 +99,3 @@ measureIntrinsics (Figures &figures)
   }
   figures.write ("intrinsics_tilt.dat", out.str ());
 }
-
-} // namespace pcl_texlet_sensor_figures

@@ -1,28 +1,13 @@
 #include "studies.h"
-#include "measurements.h"
 
 #include <pcl_texlet/noise/effects/lateral_noise.h>
-#include <pcl_texlet/simulation/effects.h>
-#include <pcl_texlet/simulation/scene.h>
 
 #include <Eigen/Core>
 
-#include <algorithm>
-#include <cmath>
-#include <cstdint>
 #include <memory>
-#include <sstream>
-#include <string>
-#include <vector>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
 
 void
-measureLateralNoise (Figures &figures)
+pcl_texlet_sensor_figures::measureLateralNoise (Figures &figures)
 {
   const effects::LateralNoise::SimParameters p;
   const double z_front = 1.5, z_back = 1.8, z_split = 0.5 * (z_front + z_back);
@@ -114,5 +99,3 @@ measureLateralNoise (Figures &figures)
   figures.note (effects::LateralNoise::kName, "pixels_changed_away_from_edge", static_cast<double> (differ), 8);
   figures.note (effects::LateralNoise::kName, "pixels_compared_away_from_edge", static_cast<double> (compared), 10);
 }
-
-} // namespace pcl_texlet_sensor_figures

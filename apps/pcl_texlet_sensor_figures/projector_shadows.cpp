@@ -1,25 +1,11 @@
 #include "studies.h"
-#include "measurements.h"
-
-#include <pcl_texlet/simulation/scene.h>
 
 #include <Eigen/Core>
 
-#include <algorithm>
-#include <cmath>
 #include <memory>
-#include <sstream>
-#include <string>
-#include <vector>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
 
 void
-measureProjectorShadows (Figures &figures)
+pcl_texlet_sensor_figures::measureProjectorShadows (Figures &figures)
 {
   const double z_front = 1.5;
   const std::vector<double> backs = {1.6, 1.8, 2.0, 2.5, 3.0};
@@ -76,5 +62,3 @@ measureProjectorShadows (Figures &figures)
   }
   figures.write ("projector_shadows.dat", widths.str ());
 }
-
-} // namespace pcl_texlet_sensor_figures

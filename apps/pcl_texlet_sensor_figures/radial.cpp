@@ -1,20 +1,9 @@
 #include "studies.h"
-#include "measurements.h"
 
 #include <pcl_texlet/noise/effects/radial.h>
-#include <pcl_texlet/simulation/effects.h>
-#include <pcl_texlet/simulation/scene_setup.h>
-
-#include <sstream>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
 
 void
-measureRadial (Figures &figures)
+pcl_texlet_sensor_figures::measureRadial (Figures &figures)
 {
   const effects::Radial::SimParameters p;
   RadialProfile measured[2], predicted[2];
@@ -50,5 +39,3 @@ measureRadial (Figures &figures)
   figures.note (effects::Radial::kName, "sd_base_centre_mm", measured[0].mean (0));
   figures.note (effects::Radial::kName, "sd_radial_centre_mm", measured[1].mean (0));
 }
-
-} // namespace pcl_texlet_sensor_figures

@@ -1,14 +1,32 @@
 /*
  * pcl_texlet_sensor_figures: the studies, one a file named after its figure (measureRadial in
  * radial.cpp). Each simulates its scenes with the base noise alone and with its effect, writes its
- * data files through Figures::write and its key numbers through Figures::note.
+ * data files through Figures::write and its key numbers through Figures::note. This header holds
+ * what they all use.
  */
 #pragma once
 
 #include "figures.h"
+#include "measurements.h"
+
+#include <pcl_texlet/kernels/structured_light.h>
+#include <pcl_texlet/simulation/effects.h>
+#include <pcl_texlet/simulation/scene.h>
+#include <pcl_texlet/simulation/scene_setup.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <string>
+#include <vector>
 
 namespace pcl_texlet_sensor_figures
 {
+
+// The studies are written in the project's names.
+using namespace pcl::texlet;
+using namespace pcl::texlet::sim;
 
 /** \brief The paper's polynomial alone: SD vs radius at three depths, and the SD map at 1.5 m. */
 void

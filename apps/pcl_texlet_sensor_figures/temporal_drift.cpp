@@ -1,22 +1,9 @@
 #include "studies.h"
-#include "measurements.h"
 
 #include <pcl_texlet/noise/effects/temporal_drift.h>
-#include <pcl_texlet/simulation/effects.h>
-#include <pcl_texlet/simulation/scene_setup.h>
-
-#include <cstdint>
-#include <sstream>
-#include <vector>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
 
 void
-measureTemporalDrift (Figures &figures)
+pcl_texlet_sensor_figures::measureTemporalDrift (Figures &figures)
 {
   const effects::TemporalDrift::SimParameters p;
   std::vector<double> mean[2];
@@ -57,5 +44,3 @@ measureTemporalDrift (Figures &figures)
   }
   figures.write ("temporal_drift.dat", out.str ());
 }
-
-} // namespace pcl_texlet_sensor_figures

@@ -1,25 +1,9 @@
 #include "studies.h"
-#include "measurements.h"
 
-#include <pcl_texlet/kernels/structured_light.h>
 #include <pcl_texlet/noise/effects/vertical_stripes.h>
-#include <pcl_texlet/simulation/effects.h>
-#include <pcl_texlet/simulation/scene_setup.h>
-
-#include <algorithm>
-#include <cmath>
-#include <cstdint>
-#include <sstream>
-#include <vector>
-
-using namespace pcl::texlet;
-using namespace pcl::texlet::sim;
-
-namespace pcl_texlet_sensor_figures
-{
 
 void
-measureVerticalStripes (Figures &figures)
+pcl_texlet_sensor_figures::measureVerticalStripes (Figures &figures)
 {
   const effects::VerticalStripes::SimParameters p;
   // Frame 0 and the first frame of the next layout.
@@ -78,5 +62,3 @@ measureVerticalStripes (Figures &figures)
   figures.note (effects::VerticalStripes::kName, "band_offset_sd_model_mm",
                 1000.0 * kernels::depthSigmaFromDisparitySigma (p.offset_px, 1.5, figures.fb ()));
 }
-
-} // namespace pcl_texlet_sensor_figures
