@@ -24,8 +24,8 @@ namespace detail
 
 /** Data drawn from \a model in the shape of \a d (parametric bootstrap): no effect beyond it. */
 std::unique_ptr<ModelLab::Data>
-synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<RecordingMeasurement::ConstPtr> &recs,
-            std::mt19937_64 &rng);
+synthesise (const ModelLab::Data &d, const NoiseModel &model,
+            const std::vector<RecordingMeasurement::ConstPtr> &recs, std::mt19937_64 &rng);
 
 } // namespace detail
 } // namespace lab

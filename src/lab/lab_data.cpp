@@ -100,34 +100,33 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
     const int W = m.width;
     std::vector<double> Dt (frames.size (), 0.0), Dtc (frames.size () * W, 0.0);
     std::vector<double> Nt (frames.size (), 0.0), Ntc (frames.size () * W, 0.0);
+    // Calls f (i, z) for every pixel i of the half with a reading z in frame t, in pixel order.
+    const auto forReadings = [&] (int t, const auto &f) {
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        if (!member[i])
+          continue;
+        const std::uint16_t z = m.at (t, i);
+        if (z)
+          f (i, z);
+      }
+    };
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < static_cast<int> (frames.size ()); ++k)
     {
       const int t = frames[k];
       double s = 0, c = 0;
-      for (std::size_t i = 0; i < n; ++i)
-      {
-        if (!member[i])
-          continue;
-        const std::uint16_t z = m.at (t, i);
-        if (!z)
-          continue;
+      forReadings (t, [&] (std::size_t i, std::uint16_t z) {
         s += (z - mean[i]) / J[i];
         c += 1;
-      }
+      });
       Dt[k] = c > 0 ? s / c : 0.0;
       Nt[k] = c;
-      for (std::size_t i = 0; i < n; ++i)
-      {
-        if (!member[i])
-          continue;
-        const std::uint16_t z = m.at (t, i);
-        if (!z)
-          continue;
+      forReadings (t, [&] (std::size_t i, std::uint16_t z) {
         const int u = static_cast<int> (i % W);
         Dtc[k * W + u] += (z - mean[i]) / J[i] - Dt[k];
         Ntc[k * W + u] += 1;
-      }
+      });
       for (int u = 0; u < W; ++u)
         if (Ntc[k * W + u] > 0)
           Dtc[k * W + u] /= Ntc[k * W + u];

@@ -7,8 +7,6 @@
 
 #include "static_fit.h"
 
-#include <pcl_texlet/noise/noise_model.h>
-
 namespace pcl
 {
 namespace texlet
@@ -18,13 +16,13 @@ namespace lab
 namespace detail
 {
 
-/** The frame-dependent bias of the model at a context, per frame, relative to the steady state. */
-double
-frameBias (const NoiseModel &model, PixelContext ctx, int frame);
-
 /** Whether a term of \a model changes with the frame index. */
 bool
 frameDependent (const NoiseModel &model);
+
+/** The frame-dependent bias of the model at a context, per frame, relative to the steady state. */
+double
+frameBias (const NoiseModel &model, PixelContext ctx, int frame);
 
 /** Variance (disparity px^2) that the pixels' independent noise gives an offset whose noise
   * weights are \a w, from the bins' variances in \a s (the set the model uses).

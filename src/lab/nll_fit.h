@@ -5,10 +5,7 @@
  */
 #pragma once
 
-#include "lab_data.h"
 #include "static_fit.h"
-
-#include <pcl_texlet/noise/noise_model.h>
 
 #include <string>
 #include <vector>
