@@ -6,6 +6,8 @@
  */
 #pragma once
 
+#include "app_main.h"
+
 #include <pcl_texlet/common/atomic_file.h>
 
 #include <pcl/exceptions.h>
@@ -38,6 +40,23 @@ public:
 private:
   std::filesystem::path path_;
 };
+
+/** \brief The absolute path of the output folder \a output that a run is to create, checked before
+  * any work so that bad input costs nothing: it must not exist yet (\a never_replaced says why an
+  * existing one is not written over), and the folder that holds it must.
+  * \throws InputError naming \a output
+  */
+inline std::filesystem::path
+newOutputFolder (const std::string &output, const std::string &never_replaced)
+{
+  std::error_code ec;
+  const std::filesystem::path out = std::filesystem::absolute (output, ec);
+  if (std::filesystem::exists (out, ec))
+    throw InputError ("OUTPUT '" + output + "' already exists (" + never_replaced + ")");
+  if (!std::filesystem::is_directory (out.parent_path (), ec))
+    throw InputError ("the folder that should hold OUTPUT '" + output + "' does not exist");
+  return out;
+}
 
 /** \brief An output folder written under a temporary name (pcl::texlet::temporaryPathFor, beside
   * the destination) and renamed onto the destination by publish () once complete. Until then the

@@ -229,12 +229,7 @@ run (int argc, char **argv)
     o.recordings.push_back (folders);
   }
   checkOptions (o, app);
-  std::error_code ec;
-  const fs::path out = fs::absolute (o.output, ec);
-  if (fs::exists (out, ec))
-    throw InputError ("OUTPUT '" + o.output + "' already exists (results are never written over others)");
-  if (!fs::is_directory (out.parent_path (), ec))
-    throw InputError ("the folder that should hold OUTPUT '" + o.output + "' does not exist");
+  const fs::path out = pcl_texlet_app::newOutputFolder (o.output, "results are never written over others");
   if (!o.no_plots && !gnuplotAvailable ())
     throw InputError ("gnuplot with the pngcairo terminal is not available (install gnuplot, or use --no-plots)");
 

@@ -263,13 +263,7 @@ run (int argc, char **argv)
       throw InputError ("--record must be 'all' or a sensor index from 0 to " + std::to_string (o.projectors - 1) +
                         " (got '" + o.record + "')");
   }
-  // The destination is checked before any work, so bad input costs nothing.
-  std::error_code ec;
-  const fs::path out = fs::absolute (o.output, ec);
-  if (fs::exists (out, ec))
-    throw InputError ("OUTPUT '" + o.output + "' already exists (a recording is never written over another)");
-  if (!fs::is_directory (out.parent_path (), ec))
-    throw InputError ("the folder that should hold OUTPUT '" + o.output + "' does not exist");
+  const fs::path out = pcl_texlet_app::newOutputFolder (o.output, "a recording is never written over another");
 
   SceneSetup setup = makeSetup (o, app);
   placeSensors (o, setup);
