@@ -18,15 +18,16 @@
 #include <gtest/gtest.h>
 
 #include "support/app_run.h"
+#include "support/temp_dir.h"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -36,11 +37,18 @@ namespace
 using pcl_texlet_test::slurp;
 using Result = pcl_texlet_test::AppResult;
 
+/** The suite's folder: the wall recordings and every test's output. */
+std::unique_ptr<pcl_texlet_test::TempDir> &
+workFolder ()
+{
+  static std::unique_ptr<pcl_texlet_test::TempDir> folder;
+  return folder;
+}
+
 const fs::path &
 workDir ()
 {
-  static const fs::path dir = fs::temp_directory_path () / ("pcl_texlet_lab_app_" + std::to_string (::getpid ()));
-  return dir;
+  return workFolder ()->path ();
 }
 
 Result
@@ -56,8 +64,7 @@ protected:
   static void
   SetUpTestSuite ()
   {
-    fs::remove_all (workDir ());
-    fs::create_directories (workDir ());
+    workFolder () = std::make_unique<pcl_texlet_test::TempDir> ("lab_app");
     const double distances[3] = {1.0, 1.6, 2.2};
     for (int k = 0; k < 3; ++k)
     {
@@ -72,7 +79,7 @@ protected:
   static void
   TearDownTestSuite ()
   {
-    fs::remove_all (workDir ());
+    workFolder ().reset ();
   }
 
   static std::string

@@ -19,10 +19,13 @@
 
 #include <gtest/gtest.h>
 
+#include "support/temp_dir.h"
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
+#include <string>
+#include <vector>
 
 using namespace pcl::texlet;
 using Quantisation = pcl::texlet::effects::DisparityQuantization;
@@ -253,10 +256,11 @@ TEST (NoiseModelYaml, RoundTripKeepsEveryTermAndValue)
   EXPECT_EQ (back.sigmaMm (c), m.sigmaMm (c));
   EXPECT_EQ (back.biasMm (c), m.biasMm (c));
 
-  const std::string path = testing::TempDir () + "/noise_model_roundtrip.yaml";
+  const pcl_texlet_test::TempDir temp;
+  const std::string path = temp.file ("noise_model_roundtrip.yaml");
   saveNoiseModelYaml (path, m);
   EXPECT_EQ (loadNoiseModelYaml (path).sigmaMm (c), m.sigmaMm (c));
-  std::remove (path.c_str ());
+  EXPECT_EQ (temp.entries (), std::vector<std::string> ({"noise_model_roundtrip.yaml"})) << "no temporary is left";
 }
 
 TEST (NoiseModelYaml, BadFilesNameTheProblem)

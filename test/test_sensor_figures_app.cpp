@@ -7,13 +7,15 @@
  */
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-#include <unistd.h>
+#include "support/app_run.h"
+#include "support/temp_dir.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -27,14 +29,8 @@ namespace
 const int kWidth = 160, kHeight = 120, kFrames = 12;
 const double kF = 580.0 * kWidth / 640.0, kB = 0.075, kFb = kF * kB, kStep = 0.125;
 
-std::string
-slurp (const fs::path &p)
-{
-  std::ifstream f (p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf ();
-  return s.str ();
-}
+using pcl_texlet_test::slurp;
+using Result = pcl_texlet_test::AppResult;
 
 /** Rows of numbers of a data file ('#' lines skipped, blank lines skipped, NaN kept). */
 std::vector<std::vector<double>>
@@ -87,40 +83,20 @@ sd (const std::vector<double> &v)
   return std::sqrt (s / (v.size () - 1));
 }
 
-struct Result
-{
-  int code = -1;
-  std::string out, err;
-};
-
 class SensorFiguresApp : public ::testing::Test
 {
 protected:
-  static fs::path
-  root ()
-  {
-    return fs::temp_directory_path () / ("pcl_texlet_sensor_figures_" + std::to_string (::getpid ()));
-  }
+  static const fs::path &
+  root () { return temp_->path (); }
 
   static Result
-  run (const std::string &args)
-  {
-    fs::create_directories (root ());
-    const std::string cmd = std::string (FIGURES_APP) + " " + args + " > " + (root () / "stdout").string () + " 2> " +
-                            (root () / "stderr").string ();
-    const int status = std::system (cmd.c_str ());
-    Result r;
-    r.code = WIFEXITED (status) ? WEXITSTATUS (status) : -1;
-    r.out = slurp (root () / "stdout");
-    r.err = slurp (root () / "stderr");
-    return r;
-  }
+  run (const std::string &args) { return pcl_texlet_test::runApp (FIGURES_APP, args, root ()); }
 
   /** One run of every figure, shared by the tests of its values. */
   static void
   SetUpTestSuite ()
   {
-    fs::remove_all (root ());
+    temp_ = std::make_unique<pcl_texlet_test::TempDir> ("sensor_figures");
     const Result r = run ((root () / "data").string () + " --width " + std::to_string (kWidth) + " --height " +
                           std::to_string (kHeight) + " --frames " + std::to_string (kFrames) + " --seed 3 -q");
     code_ = r.code;
@@ -128,15 +104,17 @@ protected:
   }
 
   static void
-  TearDownTestSuite () { fs::remove_all (root ()); }
+  TearDownTestSuite () { temp_.reset (); }
 
   static fs::path
   data (const std::string &file) { return root () / "data" / file; }
 
+  static std::unique_ptr<pcl_texlet_test::TempDir> temp_;
   static int code_;
   static std::string err_;
 };
 
+std::unique_ptr<pcl_texlet_test::TempDir> SensorFiguresApp::temp_;
 int SensorFiguresApp::code_ = -1;
 std::string SensorFiguresApp::err_;
 
@@ -152,8 +130,8 @@ TEST_F (SensorFiguresApp, WritesEveryDataFileAndNoTemporaryOne)
         "interference_holes_map.dat", "temporal_drift.dat", "lateral_noise.dat", "lateral_noise_crop.dat",
         "intrinsics_row.dat", "intrinsics_tilt.dat", "summary.txt"})
     EXPECT_TRUE (fs::is_regular_file (data (f))) << f;
-  for (const auto &e : fs::directory_iterator (root () / "data"))
-    EXPECT_EQ (e.path ().filename ().string ().find (".tmp-"), std::string::npos) << e.path ();
+  EXPECT_EQ (pcl_texlet_test::temporariesIn (root () / "data"), std::vector<std::string> ());
+  EXPECT_EQ (pcl_texlet_test::temporariesIn (root ()), std::vector<std::string> ());
 }
 
 TEST_F (SensorFiguresApp, QuantisedDepthsLieOnTheDisparityLattice)

@@ -12,13 +12,14 @@
 #include <gtest/gtest.h>
 
 #include "support/app_run.h"
+#include "support/temp_dir.h"
 
-#include <sys/wait.h>
-#include <unistd.h>
-
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -28,37 +29,13 @@ namespace
 using Result = pcl_texlet_test::AppResult;
 using pcl_texlet_test::slurp;
 
-
-class SimApp : public ::testing::Test
+class SimApp : public pcl_texlet_test::TempDirTest
 {
 protected:
-  fs::path dir = fs::temp_directory_path () /
-                 ("pcl_texlet_sim_app_" + std::to_string (::getpid ()) + "_" +
-                  ::testing::UnitTest::GetInstance ()->current_test_info ()->name ());
-
-  void SetUp () override
-  {
-    fs::remove_all (dir);
-    fs::create_directories (dir);
-  }
-  void TearDown () override { fs::remove_all (dir); }
-
   Result
   run (const std::string &args)
   {
-    return pcl_texlet_test::runApp (SIM_APP, args, dir);
-  }
-
-  /** Everything in the test folder but the captured output: what a run left behind. */
-  std::vector<std::string>
-  leftovers () const
-  {
-    std::vector<std::string> names;
-    for (const auto &e : fs::directory_iterator (dir))
-      if (e.path ().filename () != "stdout" && e.path ().filename () != "stderr")
-        names.push_back (e.path ().filename ().string ());
-    std::sort (names.begin (), names.end ());
-    return names;
+    return pcl_texlet_test::runApp (SIM_APP, args, dir_);
   }
 
   /** Bad input: exit 2, exactly one line on stderr mentioning `needle`, nothing new left. */
@@ -93,14 +70,14 @@ TEST_F (SimApp, PlaneRecordingIsReadableAndTheSameForTheSameSeed)
 {
   const std::string common = "--scene plane --distance 1.5 --tilt-x 20 --frames 4 --effect vertical_stripes "
                              "--effect disparity_quantization --seed 7 --width 320 --height 240 ";
-  Result r = run (common + "-j 1 " + (dir / "a").string ());
+  Result r = run (common + "-j 1 " + (dir_ / "a").string ());
   ASSERT_EQ (r.code, 0) << r.err;
   EXPECT_NE (r.out.find ("disparity_quantization, vertical_stripes"), std::string::npos) << r.out;
-  r = run (common + "-j 2 " + (dir / "b").string ());
+  r = run (common + "-j 2 " + (dir_ / "b").string ());
   ASSERT_EQ (r.code, 0) << r.err;
   EXPECT_EQ (leftovers (), std::vector<std::string> ({"a", "b"})) << "no temporary folder is left";
 
-  pcl::texlet::RecordingFolderReader reader ((dir / "a").string ());
+  pcl::texlet::RecordingFolderReader reader ((dir_ / "a").string ());
   ASSERT_EQ (reader.size (), 4u);
   EXPECT_EQ (reader.cameraInfo ().width, 320);
   EXPECT_DOUBLE_EQ (reader.cameraInfo ().fx (), 290.0);
@@ -114,9 +91,9 @@ TEST_F (SimApp, PlaneRecordingIsReadableAndTheSameForTheSameSeed)
   for (int k = 0; k < 4; ++k)
   {
     const std::string name = "depth/00000" + std::to_string (k) + ".png";
-    EXPECT_EQ (slurp (dir / "a" / name), slurp (dir / "b" / name)) << name << ": same seed, same bytes";
+    EXPECT_EQ (slurp (dir_ / "a" / name), slurp (dir_ / "b" / name)) << name << ": same seed, same bytes";
   }
-  const std::string meta = slurp (dir / "a" / "meta.yaml");
+  const std::string meta = slurp (dir_ / "a" / "meta.yaml");
   for (const char *needle : {"scene: plane", "tilt_x_deg: 20", "projectors: 1", "seed: 7", "vertical_stripes:",
                              "disparity_quantization: {step_px: 0.125}"})
     EXPECT_NE (meta.find (needle), std::string::npos) << needle << "\n" << meta;
@@ -125,11 +102,11 @@ TEST_F (SimApp, PlaneRecordingIsReadableAndTheSameForTheSameSeed)
 TEST_F (SimApp, BoxWithThreeProjectorsRecordsEverySensor)
 {
   const Result r = run ("--scene box --projectors 3 --record all --frames 2 --width 160 --height 120 "
-                        "--effect interference " + (dir / "box").string ());
+                        "--effect interference " + (dir_ / "box").string ());
   ASSERT_EQ (r.code, 0) << r.err;
   for (int k = 0; k < 3; ++k)
   {
-    const fs::path rec = dir / "box" / ("sensor_" + std::to_string (k));
+    const fs::path rec = dir_ / "box" / ("sensor_" + std::to_string (k));
     pcl::texlet::RecordingFolderReader reader (rec.string ());
     EXPECT_EQ (reader.size (), 2u);
     const std::string meta = slurp (rec / "meta.yaml");
@@ -146,13 +123,13 @@ TEST_F (SimApp, PosesPlaceTheSensors)
   const std::string identity = " --pose 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1";
   const std::string aside = " --pose 1 0 0 0.2 0 1 0 0 0 0 1 0 0 0 0 1";
   const Result r = run ("--frames 1 --width 160 --height 120 --record all" + identity + aside + " " +
-                        (dir / "rec").string ());
+                        (dir_ / "rec").string ());
   ASSERT_EQ (r.code, 0) << r.err;
-  const std::string meta = slurp (dir / "rec" / "sensor_1" / "meta.yaml");
+  const std::string meta = slurp (dir_ / "rec" / "sensor_1" / "meta.yaml");
   EXPECT_NE (meta.find ("sensor_pose: [1, 0, 0, 0.2, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]"), std::string::npos) << meta;
   EXPECT_NE (meta.find ("projectors: 2"), std::string::npos) << meta;
   // A frontal wall seen from 20 cm to the side: the same depths, shifted in the image.
-  pcl::texlet::RecordingFolderReader a ((dir / "rec" / "sensor_0").string ()), b ((dir / "rec" / "sensor_1").string ());
+  pcl::texlet::RecordingFolderReader a ((dir_ / "rec" / "sensor_0").string ()), b ((dir_ / "rec" / "sensor_1").string ());
   pcl::texlet::DepthFrame fa, fb;
   ASSERT_TRUE (a.next (fa));
   ASSERT_TRUE (b.next (fb));
@@ -162,13 +139,13 @@ TEST_F (SimApp, PosesPlaceTheSensors)
 
 TEST_F (SimApp, ConfigFileThenEffectsThenSettings)
 {
-  std::ofstream (dir / "effects.yaml") << "base_noise: none\neffects:\n  temporal_drift: {amplitude_px: 0.3}\n"
+  std::ofstream (dir_ / "effects.yaml") << "base_noise: none\neffects:\n  temporal_drift: {amplitude_px: 0.3}\n"
                                           "  radial: {enabled: false, gain: 0.9}\n";
-  const Result r = run ("--config " + (dir / "effects.yaml").string () +
+  const Result r = run ("--config " + (dir_ / "effects.yaml").string () +
                         " --effect radial --set radial.reference_radius_px=200 --frames 1 --width 160 --height 120 " +
-                        (dir / "rec").string ());
+                        (dir_ / "rec").string ());
   ASSERT_EQ (r.code, 0) << r.err;
-  const std::string meta = slurp (dir / "rec" / "meta.yaml");
+  const std::string meta = slurp (dir_ / "rec" / "meta.yaml");
   for (const char *needle : {"base_noise: none", "temporal_drift: {amplitude_px: 0.3, time_constant_frames: 10}",
                              "radial: {gain: 0.9, reference_radius_px: 200}"})
     EXPECT_NE (meta.find (needle), std::string::npos) << needle << "\n" << meta;
@@ -190,12 +167,12 @@ TEST_F (SimApp, MeshScene)
     v.vertices.assign (t, t + 3);
     mesh.polygons.push_back (v);
   }
-  ASSERT_EQ (pcl::io::savePLYFile ((dir / "cube.ply").string (), mesh), 0);
-  const Result r = run ("--scene mesh --mesh " + (dir / "cube.ply").string () +
+  ASSERT_EQ (pcl::io::savePLYFile ((dir_ / "cube.ply").string (), mesh), 0);
+  const Result r = run ("--scene mesh --mesh " + (dir_ / "cube.ply").string () +
                         " --mesh-scale 0.001 --distance 1.2 --tilt-y 30 --frames 1 --width 160 --height 120 --base-noise none " +
-                        (dir / "rec").string ());
+                        (dir_ / "rec").string ());
   ASSERT_EQ (r.code, 0) << r.err;
-  pcl::texlet::RecordingFolderReader reader ((dir / "rec").string ());
+  pcl::texlet::RecordingFolderReader reader ((dir_ / "rec").string ());
   pcl::texlet::DepthFrame f;
   ASSERT_TRUE (reader.next (f));
   // The cube's centre is 1.2 m ahead; the front faces are 15 cm to 21 cm nearer.
@@ -203,31 +180,31 @@ TEST_F (SimApp, MeshScene)
   EXPECT_GT (centre, 990);
   EXPECT_LT (centre, 1060);
   EXPECT_EQ (f.depth_mm[5 * 160 + 5], 0) << "nothing but the cube in the scene";
-  EXPECT_NE (slurp (dir / "rec" / "meta.yaml").find ("scene: free"), std::string::npos);
+  EXPECT_NE (slurp (dir_ / "rec" / "meta.yaml").find ("scene: free"), std::string::npos);
 }
 
 TEST_F (SimApp, BadInputIsRejectedWithOneLineAndLeavesNothing)
 {
-  const std::string out = (dir / "out").string ();
+  const std::string out = (dir_ / "out").string ();
   expectRejected ("--effect speckle " + out, "unknown effect 'speckle'");
   expectRejected ("--set radial.gain=-2 " + out, "parameter gain must be >= 0");
   expectRejected ("--set radial " + out, "effect.parameter=value");
   expectRejected ("--scene mesh " + out, "--scene mesh needs --mesh");
-  expectRejected ("--scene mesh --mesh " + (dir / "missing.ply").string () + " " + out, "missing.ply': does not exist");
+  expectRejected ("--scene mesh --mesh " + (dir_ / "missing.ply").string () + " " + out, "missing.ply': does not exist");
   expectRejected ("--scene foo " + out, "--scene");
   expectRejected ("--scene box --tilt-x 10 " + out, "--tilt-x");
   expectRejected ("--frames 0 " + out, "--frames");
   expectRejected ("--record 2 " + out, "--record");
   expectRejected ("--width 0 " + out, "image size 0x480");
   expectRejected ("--distance -1 " + out, "distance must be positive");
-  expectRejected ("--config " + (dir / "none.yaml").string () + " " + out, "none.yaml': does not exist");
-  std::ofstream (dir / "bad.yaml") << "effects: {radial: {gian: 1}}\n";
-  expectRejected ("--config " + (dir / "bad.yaml").string () + " " + out, "has no parameter 'gian'");
+  expectRejected ("--config " + (dir_ / "none.yaml").string () + " " + out, "none.yaml': does not exist");
+  std::ofstream (dir_ / "bad.yaml") << "effects: {radial: {gian: 1}}\n";
+  expectRejected ("--config " + (dir_ / "bad.yaml").string () + " " + out, "has no parameter 'gian'");
   expectRejected ("--pose 1 0 0 0 0 2 0 0 0 0 1 0 0 0 0 1 " + out, "the pose must be a finite rigid transform");
   expectRejected ("--projectors 2 --pose 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 " + out, "disagrees with the 1 --pose");
   expectRejected ("", "OUTPUT is required");
-  expectRejected ((dir / "no" / "such" / "out").string (), "does not exist");
-  fs::create_directories (dir / "taken");
-  expectRejected ((dir / "taken").string (), "already exists");
-  EXPECT_TRUE (fs::is_empty (dir / "taken"));
+  expectRejected ((dir_ / "no" / "such" / "out").string (), "does not exist");
+  fs::create_directories (dir_ / "taken");
+  expectRejected ((dir_ / "taken").string (), "already exists");
+  EXPECT_TRUE (fs::is_empty (dir_ / "taken"));
 }

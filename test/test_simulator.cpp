@@ -28,6 +28,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/temp_dir.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -36,8 +38,8 @@
 #include <iostream>
 #include <set>
 #include <sstream>
-
-#include <unistd.h>
+#include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 using namespace pcl::texlet;
@@ -133,27 +135,7 @@ signature (const std::string &line)
 }
 
 /** A fresh folder per test, unique across processes. */
-class SimulatorFiles : public ::testing::Test
-{
-protected:
-  void
-  SetUp () override
-  {
-    dir_ = fs::temp_directory_path () / ("pcl_texlet_test_simulator_" + std::to_string (::getpid ()) + "_" +
-                                         ::testing::UnitTest::GetInstance ()->current_test_info ()->name ());
-    fs::remove_all (dir_);
-    fs::create_directories (dir_);
-  }
-
-  void
-  TearDown () override
-  {
-    std::error_code ec;
-    fs::remove_all (dir_, ec);
-  }
-
-  fs::path dir_;
-};
+using SimulatorFiles = pcl_texlet_test::TempDirTest;
 
 } // namespace
 
@@ -880,7 +862,7 @@ TEST_F (SimulatorFiles, WrittenRecordingReadsBackAsSimulated)
   loadSimulationConfig ((folder / "meta.yaml").string (), reread);
   EXPECT_EQ (enabledEffects (reread.effects), enabledEffects (s.effects));
   EXPECT_TRUE (reread.base_noise);
-  EXPECT_FALSE (fs::exists (dir_ / (".rec.tmp-" + std::to_string (::getpid ()))));
+  EXPECT_EQ (temp_.entries (), std::vector<std::string> ({"rec"})) << "no temporary folder is left";
 }
 
 TEST_F (SimulatorFiles, AFailedWriteLeavesNoRecording)
@@ -901,10 +883,7 @@ TEST_F (SimulatorFiles, AFailedWriteLeavesNoRecording)
     EXPECT_THROW (writer.writeFrame (wrong), pcl::BadArgumentException);
   }
   EXPECT_FALSE (fs::exists (dir_ / "broken"));
-  std::size_t leftovers = 0;
-  for (const auto &e : fs::directory_iterator (dir_))
-    leftovers += e.path ().filename () != "taken";
-  EXPECT_EQ (leftovers, 0u);
+  EXPECT_EQ (temp_.entries (), std::vector<std::string> ({"taken"})) << "no temporary folder is left";
   // A missing parent folder is reported before anything is made.
   try
   {
@@ -915,4 +894,5 @@ TEST_F (SimulatorFiles, AFailedWriteLeavesNoRecording)
   {
     EXPECT_NE (std::string (e.what ()).find ("does not exist"), std::string::npos) << e.what ();
   }
+  EXPECT_EQ (temp_.entries (), std::vector<std::string> ({"taken"}));
 }

@@ -20,14 +20,18 @@
 
 #include <gtest/gtest.h>
 
+#include "support/expect_error.h"
+#include "support/temp_dir.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
-
-#include <unistd.h>
+#include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
+using pcl_texlet_test::expectError;
 using namespace pcl::texlet;
 using namespace pcl::texlet::sim;
 
@@ -42,48 +46,7 @@ noiseFree ()
   return s;
 }
 
-/** Expects \a body to throw E with \a needle in its message. */
-template <typename E, typename Body> void
-expectError (Body body, const std::string &needle)
-{
-  try
-  {
-    body ();
-    ADD_FAILURE () << "expected an exception mentioning '" << needle << "'";
-  }
-  catch (const E &e)
-  {
-    EXPECT_NE (std::string (e.what ()).find (needle), std::string::npos) << e.what ();
-  }
-}
-
-class SceneFiles : public ::testing::Test
-{
-protected:
-  void
-  SetUp () override
-  {
-    dir_ = fs::temp_directory_path () / ("pcl_texlet_test_simulator_scene_" + std::to_string (::getpid ()) + "_" +
-                                         ::testing::UnitTest::GetInstance ()->current_test_info ()->name ());
-    fs::remove_all (dir_);
-    fs::create_directories (dir_);
-  }
-
-  void
-  TearDown () override
-  {
-    std::error_code ec;
-    fs::remove_all (dir_, ec);
-  }
-
-  std::string
-  file (const std::string &name) const
-  {
-    return (dir_ / name).string ();
-  }
-
-  fs::path dir_;
-};
+using SceneFiles = pcl_texlet_test::TempDirTest;
 
 /** The 12 triangles of a box of \a size centred at \a centre, as a PolygonMesh. */
 pcl::PolygonMesh
@@ -247,20 +210,20 @@ TEST_F (SceneFiles, OrganisedPcdIsTriangulatedOverItsPixelGrid)
 
 TEST_F (SceneFiles, MeshLoaderErrorsNameTheFile)
 {
-  expectError<pcl::IOException> ([&] { loadTriangleMesh (file ("missing.ply")); }, "missing.ply': does not exist");
+  expectError<pcl::IOException> ([&] { loadTriangleMesh (file ("missing.ply")); }, {"missing.ply': does not exist"});
   std::ofstream (file ("model.xyz")) << "1 2 3\n";
-  expectError<pcl::IOException> ([&] { loadTriangleMesh (file ("model.xyz")); }, "unknown extension '.xyz'");
+  expectError<pcl::IOException> ([&] { loadTriangleMesh (file ("model.xyz")); }, {"unknown extension '.xyz'"});
   std::ofstream (file ("junk.ply")) << "not a ply file\n";
-  expectError<pcl::IOException> ([&] { loadTriangleMesh (file ("junk.ply")); }, "junk.ply");
+  expectError<pcl::IOException> ([&] { loadTriangleMesh (file ("junk.ply")); }, {"junk.ply"});
   pcl::PointCloud<pcl::PointXYZ> flat;
   flat.push_back (pcl::PointXYZ (0, 0, 1));
   flat.push_back (pcl::PointXYZ (1, 0, 1));
   flat.push_back (pcl::PointXYZ (0, 1, 1));
   ASSERT_EQ (pcl::io::savePCDFileASCII (file ("points.pcd"), flat), 0);
-  expectError<pcl::IOException> ([&] { loadTriangleMesh (file ("points.pcd")); }, "unorganised");
+  expectError<pcl::IOException> ([&] { loadTriangleMesh (file ("points.pcd")); }, {"unorganised"});
   // A PLY of points only has nothing to hit.
   ASSERT_EQ (pcl::io::savePLYFile (file ("points.ply"), flat), 0);
-  expectError<pcl::IOException> ([&] { loadTriangleMesh (file ("points.ply")); }, "no faces");
+  expectError<pcl::IOException> ([&] { loadTriangleMesh (file ("points.ply")); }, {"no faces"});
 }
 
 TEST (SimulatorScene, BvhFindsTheSameHitsAsBruteForce)
@@ -300,29 +263,29 @@ TEST (SimulatorScene, BvhFindsTheSameHitsAsBruteForce)
 
 TEST (SimulatorScene, BadGeometryIsRejected)
 {
-  expectError<pcl::BadArgumentException> ([] { planeSetup (0.0, 0, 0); }, "distance");
-  expectError<pcl::BadArgumentException> ([] { planeSetup (1.0, 95, 0); }, "tilt x");
-  expectError<pcl::BadArgumentException> ([] { boxSetup (1.0, 0, 1); }, "elevation");
-  expectError<pcl::BadArgumentException> ([] { boxSetup (1.0, 30, 0); }, "number of sensors");
+  expectError<pcl::BadArgumentException> ([] { planeSetup (0.0, 0, 0); }, {"distance"});
+  expectError<pcl::BadArgumentException> ([] { planeSetup (1.0, 95, 0); }, {"tilt x"});
+  expectError<pcl::BadArgumentException> ([] { boxSetup (1.0, 0, 1); }, {"elevation"});
+  expectError<pcl::BadArgumentException> ([] { boxSetup (1.0, 30, 0); }, {"number of sensors"});
   expectError<pcl::BadArgumentException> (
       [] { TriangleMeshSurface (std::vector<Eigen::Vector3d> (3, Eigen::Vector3d::Zero ()), {{0, 1, 2}}); },
-      "no triangle with a non-zero area");
+      {"no triangle with a non-zero area"});
   expectError<pcl::BadArgumentException> (
       [] { TriangleMeshSurface ({Eigen::Vector3d::Zero (), Eigen::Vector3d::UnitX (), Eigen::Vector3d::UnitY ()}, {{0, 1, 3}}); },
-      "refers to vertex 3");
+      {"refers to vertex 3"});
   const SceneSetup wall = planeSetup (1.0, 0, 0);
   DepthSensor bad = DepthSensor::kinect ();
   bad.max_depth_m = 70.0;
-  expectError<pcl::BadArgumentException> ([&] { KinectSimulator (wall.scene, {bad}, noiseFree ()); }, "65.535");
+  expectError<pcl::BadArgumentException> ([&] { KinectSimulator (wall.scene, {bad}, noiseFree ()); }, {"65.535"});
   bad = DepthSensor::kinect ();
   bad.fx = -1;
-  expectError<pcl::BadArgumentException> ([&] { KinectSimulator (wall.scene, {bad}, noiseFree ()); }, "sensor 0");
+  expectError<pcl::BadArgumentException> ([&] { KinectSimulator (wall.scene, {bad}, noiseFree ()); }, {"sensor 0"});
   SimulationSettings s = noiseFree ();
   effects::VerticalStripes::SimParameters no_bands;
   no_bands.bands = 0; // past setEffectParameter's check: the simulator must check it too
   s.effects.set<effects::VerticalStripes> (no_bands, false);
   expectError<pcl::BadArgumentException> ([&] { KinectSimulator (wall.scene, {DepthSensor::kinect ()}, s); },
-                                          "vertical_stripes': parameter bands");
+                                          {"vertical_stripes': parameter bands"});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -351,15 +314,17 @@ TEST (SimulatorEffects, CatalogueFollowsTheDesignVocabulary)
   EXPECT_EQ (fx.parameters<effects::VerticalStripes> ().offset_px, 0.25);
   EXPECT_EQ (effectParameter (fx, "vertical_stripes", "offset_px"), 0.25);
   EXPECT_EQ (enabledEffects (fx), std::vector<std::string> ({"interference"}));
-  expectError<pcl::BadArgumentException> ([&] { setEffectEnabled (fx, "speckle", true); }, "unknown effect 'speckle'");
+  expectError<pcl::BadArgumentException> ([&] { setEffectEnabled (fx, "speckle", true); },
+                                          {"unknown effect 'speckle'"});
   expectError<pcl::BadArgumentException> ([&] { setEffectParameter (fx, "radial", "sigma", 1); },
-                                          "has no parameter 'sigma' (its parameters: gain, reference_radius_px)");
+                                          {"has no parameter 'sigma' (its parameters: gain, reference_radius_px)"});
   expectError<pcl::BadArgumentException> ([&] { setEffectParameter (fx, "vertical_stripes", "bands", 2.5); },
-                                          "a whole number");
+                                          {"a whole number"});
   expectError<pcl::BadArgumentException> ([&] { setEffectParameter (fx, "incidence_angle", "max_angle_deg", 120); },
-                                          "in (0, 90]");
-  expectError<pcl::BadArgumentException> ([&] { applyEffectAssignment ("radial.gain", fx); }, "effect.parameter=value");
-  expectError<pcl::BadArgumentException> ([&] { applyEffectAssignment ("radial.gain=abc", fx); }, "not a number");
+                                          {"in (0, 90]"});
+  expectError<pcl::BadArgumentException> ([&] { applyEffectAssignment ("radial.gain", fx); },
+                                          {"effect.parameter=value"});
+  expectError<pcl::BadArgumentException> ([&] { applyEffectAssignment ("radial.gain=abc", fx); }, {"not a number"});
   applyEffectAssignment ("radial.gain=0.75", fx);
   EXPECT_EQ (fx.parameters<effects::Radial> ().gain, 0.75);
   EXPECT_FALSE (fx.isEnabled<effects::Radial> ()) << "setting a parameter does not switch the effect on";
@@ -387,7 +352,7 @@ TEST_F (SceneFiles, YamlConfigurationAndItsErrors)
   const SimulationSettings before = s;
   const auto rejected = [&] (const std::string &yaml, const std::string &needle) {
     SimulationSettings t = before;
-    expectError<pcl::IOException> ([&] { parseSimulationConfig (yaml, t, "test.yaml"); }, needle);
+    expectError<pcl::IOException> ([&] { parseSimulationConfig (yaml, t, "test.yaml"); }, {needle});
     EXPECT_EQ (enabledEffects (t.effects), enabledEffects (before.effects)) << "a bad file changes nothing";
   };
   rejected ("effects: {speckle: true}", "test.yaml: unknown effect 'speckle'");
@@ -406,5 +371,5 @@ TEST_F (SceneFiles, YamlConfigurationAndItsErrors)
   EXPECT_TRUE (isEffectEnabled (fromFile.effects, "temporal_drift"));
   EXPECT_EQ (effectParameter (fromFile.effects, "temporal_drift", "amplitude_px"), 0.3);
   expectError<pcl::IOException> ([&] { loadSimulationConfig (file ("nope.yaml"), fromFile); },
-                                 "nope.yaml': does not exist");
+                                 {"nope.yaml': does not exist"});
 }

@@ -39,8 +39,6 @@
 #include <map>
 #include <sstream>
 
-#include <unistd.h>
-
 namespace fs = std::filesystem;
 using namespace pcl::texlet;
 using nlohmann::json;
@@ -75,7 +73,7 @@ struct Options
   bool no_plots = false, quiet = false;
 };
 
-using pcl_texlet_app::FolderGuard;
+using pcl_texlet_app::OutputFolder;
 
 void
 writeText (const fs::path &path, const std::string &text)
@@ -231,12 +229,7 @@ run (int argc, char **argv)
     o.recordings.push_back (folders);
   }
   checkOptions (o, app);
-  std::error_code ec;
-  const fs::path out = fs::absolute (o.output, ec);
-  if (fs::exists (out, ec))
-    throw InputError ("OUTPUT '" + o.output + "' already exists (results are never written over others)");
-  if (!fs::is_directory (out.parent_path (), ec))
-    throw InputError ("the folder that should hold OUTPUT '" + o.output + "' does not exist");
+  const fs::path out = pcl_texlet_app::newOutputFolder (o.output, "results are never written over others");
   if (!o.no_plots && !gnuplotAvailable ())
     throw InputError ("gnuplot with the pngcairo terminal is not available (install gnuplot, or use --no-plots)");
 
@@ -314,11 +307,8 @@ run (int argc, char **argv)
       sets.emplace_back (p, loadSensorRecordings (o.recordings[k], extrinsics, o.frames));
     }
 
-  const fs::path tmp = out.parent_path () / ("." + out.filename ().string () + ".tmp-" + std::to_string (::getpid ()));
-  fs::remove_all (tmp, ec);
-  if (!fs::create_directory (tmp, ec))
-    throw pcl::IOException ("cannot create the temporary folder '" + tmp.string () + "': " + ec.message ());
-  FolderGuard guard (tmp);
+  OutputFolder folder (out, o.output);
+  const fs::path tmp = folder.temporary ();
 
   const std::vector<int> projector_counts = o.simulate ? o.projectors : std::vector<int> ();
   const std::size_t set_count = o.simulate ? projector_counts.size () : sets.size ();
@@ -387,7 +377,7 @@ run (int argc, char **argv)
   writeText (tmp / "inliers.json", j.dump (2) + "\n");
   writeText (tmp / "report.html", pcl_texlet_interference::studyHtml (j, tmp.string (), curves_png));
 
-  pcl_texlet_app::publishFolder (tmp, out, o.output, guard);
+  folder.publish ();
   if (!o.quiet)
     std::cout << "output: " << o.output << " (inliers.json, report.html"
               << (o.no_plots ? "" : ", histogram_p*_r*.png, inliers_vs_radius.png") << ")" << std::endl;

@@ -1,7 +1,7 @@
 /*
- * pcl_texlet_sim: simulated Kinect recordings (DESIGN.md section 4 recording folders) of a
- * tilted wall, the paper's box on a table, or a mesh, with the paper's noise and any of the
- * physical effects of DESIGN.md section 5.
+ * pcl_texlet_sim: simulated Kinect recordings (recording folders, docs/sensor_model.md section 2)
+ * of a tilted wall, the paper's box on a table, or a mesh, with the paper's noise and any of the
+ * physical effects of docs/sensor_model.md section 6.
  *
  * Exit codes: 0 success, 2 bad input or options (one line on stderr), 1 unexpected failure.
  * The output is written to a hidden temporary folder and renamed when complete, so a failed
@@ -29,8 +29,6 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
-
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 using namespace pcl::texlet::sim;
@@ -68,7 +66,8 @@ struct Options
 void
 printEffects ()
 {
-  std::cout << "Effects (DESIGN.md section 5); switch on with --effect NAME, set with --set NAME.PARAMETER=VALUE\n";
+  std::cout << "Effects (docs/sensor_model.md section 6); switch on with --effect NAME, set with "
+               "--set NAME.PARAMETER=VALUE\n";
   for (const auto &e : effectCatalogue ())
   {
     std::cout << "\n  " << e.name << ": " << e.summary << "\n";
@@ -167,14 +166,14 @@ makeSensor (const Options &o)
   return s;
 }
 
-using pcl_texlet_app::FolderGuard;
+using pcl_texlet_app::OutputFolder;
 
 int
 run (int argc, char **argv)
 {
   Options o;
   CLI::App app ("Simulate Kinect-class structured-light depth recordings: the paper's depth noise plus any of the\n"
-                "physical effects of DESIGN.md section 5 (see --list-effects).\n"
+                "physical effects of docs/sensor_model.md section 6 (see --list-effects).\n"
                 "OUTPUT: a recording folder (camera.yaml, depth/000000.png ..., meta.yaml); with --record all and\n"
                 "several sensors, a folder holding one recording per sensor (sensor_0, sensor_1, ...).",
                 kName);
@@ -264,13 +263,7 @@ run (int argc, char **argv)
       throw InputError ("--record must be 'all' or a sensor index from 0 to " + std::to_string (o.projectors - 1) +
                         " (got '" + o.record + "')");
   }
-  // The destination is checked before any work, so bad input costs nothing.
-  std::error_code ec;
-  const fs::path out = fs::absolute (o.output, ec);
-  if (fs::exists (out, ec))
-    throw InputError ("OUTPUT '" + o.output + "' already exists (a recording is never written over another)");
-  if (!fs::is_directory (out.parent_path (), ec))
-    throw InputError ("the folder that should hold OUTPUT '" + o.output + "' does not exist");
+  const fs::path out = pcl_texlet_app::newOutputFolder (o.output, "a recording is never written over another");
 
   SceneSetup setup = makeSetup (o, app);
   placeSensors (o, setup);
@@ -291,14 +284,11 @@ run (int argc, char **argv)
   else
   {
     // Several recordings: all of them inside one temporary folder renamed at the end.
-    const fs::path tmp = out.parent_path () / ("." + out.filename ().string () + ".tmp-" + std::to_string (::getpid ()));
-    fs::remove_all (tmp, ec);
-    if (!fs::create_directory (tmp, ec))
-      throw pcl::IOException ("cannot create the temporary folder '" + tmp.string () + "': " + ec.message ());
-    FolderGuard guard (tmp);
+    OutputFolder folder (out, o.output);
     for (const std::size_t k : sensors)
-      writeSimulatedRecording (sim, setup, k, 0, o.frames, (tmp / ("sensor_" + std::to_string (k))).string ());
-    pcl_texlet_app::publishFolder (tmp, out, o.output, guard);
+      writeSimulatedRecording (sim, setup, k, 0, o.frames,
+                               (folder.temporary () / ("sensor_" + std::to_string (k))).string ());
+    folder.publish ();
   }
   const double seconds = std::chrono::duration<double> (std::chrono::steady_clock::now () - t0).count ();
 

@@ -4,12 +4,12 @@
 
 #include <pcl/exceptions.h>
 
+#include <pcl_texlet/common/atomic_file.h>
 #include <pcl_texlet/common/error_text.h>
 
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <map>
@@ -206,22 +206,15 @@ loadNoiseModelYaml (const std::string &path)
 void
 saveNoiseModelYaml (const std::string &path, const NoiseModel &model)
 {
-  const std::string tmp = path + ".tmp";
+  AtomicFile file (path);
   {
-    std::ofstream out (tmp);
+    std::ofstream out (file.temporaryPath ());
     out << noiseModelToYaml (model);
     out.close (); // a failed flush (disk full) shows only here
     if (!out)
-    {
-      std::remove (tmp.c_str ());
       throw pcl::IOException ("noise model '" + path + "': cannot be written");
-    }
   }
-  if (std::rename (tmp.c_str (), path.c_str ()) != 0)
-  {
-    std::remove (tmp.c_str ());
-    throw pcl::IOException ("noise model '" + path + "': cannot be renamed into place");
-  }
+  file.commit ();
 }
 
 } // namespace texlet

@@ -4,6 +4,7 @@
 #include <pcl_texlet/noise/pixel_context.h>
 
 #include <pcl_texlet/common/error_text.h>
+#include <pcl_texlet/common/parallel_for.h>
 
 #include <pcl/exceptions.h>
 
@@ -12,7 +13,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <limits>
 
 namespace pcl
@@ -24,31 +24,6 @@ namespace sim
 
 namespace
 {
-
-/** Runs body (i) for i in [0, n) on \a threads threads; the first exception is rethrown after
-  * the loop, since none may leave an OpenMP region.
-  */
-template <typename Body> void
-parallelFor (int n, int threads, bool parallel, Body body)
-{
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) num_threads(threads) if (parallel)
-  for (int i = 0; i < n; ++i)
-  {
-    try
-    {
-      body (i);
-    }
-    catch (...)
-    {
-#pragma omp critical(pcl_texlet_simulator_error)
-      if (!error)
-        error = std::current_exception ();
-    }
-  }
-  if (error)
-    std::rethrow_exception (error);
-}
 
 std::string
 frameName (std::uint32_t frame)

@@ -1,11 +1,12 @@
 #include <pcl_texlet/simulation/simulated_recording.h>
 #include <pcl_texlet/simulation/simulation_meta.h>
 #include <pcl_texlet/io/recording_writer.h>
+#include <pcl_texlet/common/parallel_for.h>
 
 #include <pcl/exceptions.h>
 
-#include <exception>
-#include <limits>
+#include <cstdint>
+#include <string>
 
 namespace pcl
 {
@@ -30,29 +31,11 @@ writeSimulatedRecording (const KinectSimulator &simulator, const SceneSetup &set
 
   // Each thread simulates and compresses whole frames; PNG compression costs as much as the
   // simulation, so both belong inside the parallel loop.
-  std::exception_ptr error;
-  const int n = static_cast<int> (frames);
-#pragma omp parallel num_threads(simulator.numberOfThreads ())
-  {
+  parallelFor (static_cast<int> (frames), simulator.numberOfThreads (), true, [&] (int k) {
     DepthFrame frame;
-#pragma omp for schedule(dynamic)
-    for (int k = 0; k < n; ++k)
-    {
-      try
-      {
-        simulator.simulateFrameSerial (sensor, first_frame + static_cast<std::uint32_t> (k), frame);
-        writer.writeFrame (frame);
-      }
-      catch (...)
-      {
-#pragma omp critical(pcl_texlet_simulated_recording_error)
-        if (!error)
-          error = std::current_exception ();
-      }
-    }
-  }
-  if (error)
-    std::rethrow_exception (error);
+    simulator.simulateFrameSerial (sensor, first_frame + static_cast<std::uint32_t> (k), frame);
+    writer.writeFrame (frame);
+  });
   writer.commit ();
 }
 

@@ -1,11 +1,11 @@
 #include <pcl_texlet/simulation/simulation_meta.h>
 #include <pcl_texlet/noise/model_description.h>
+#include <pcl_texlet/common/shortest_decimal.h>
 
 #include <pcl/exceptions.h>
 
 #include <yaml-cpp/yaml.h>
 
-#include <charconv>
 #include <cmath>
 
 namespace pcl
@@ -17,15 +17,6 @@ namespace sim
 
 namespace
 {
-
-/** Shortest text that reads back as exactly \a v. */
-std::string
-number (double v)
-{
-  char buffer[32];
-  const std::to_chars_result r = std::to_chars (buffer, buffer + sizeof (buffer), v);
-  return std::string (buffer, r.ptr);
-}
 
 /** Whether \a model is exactly the paper's polynomial (what "base_noise: paper" reads back as). */
 bool
@@ -55,11 +46,12 @@ simulationMetaYaml (const SceneSetup &setup, const KinectSimulator &simulator, s
   out << YAML::Key << "scene" << YAML::Value << setup.kind;
   out << YAML::Key << "scene_parameters" << YAML::Value << YAML::BeginMap;
   for (const auto &p : setup.parameters)
-    out << YAML::Key << p.first << YAML::Value << number (p.second);
+    out << YAML::Key << p.first << YAML::Value << shortestDecimal (p.second);
   out << YAML::EndMap;
   if (setup.box_size_m.allFinite ())
-    out << YAML::Key << "box_size_m" << YAML::Value << YAML::Flow << YAML::BeginSeq << number (setup.box_size_m.x ())
-        << number (setup.box_size_m.y ()) << number (setup.box_size_m.z ()) << YAML::EndSeq;
+    out << YAML::Key << "box_size_m" << YAML::Value << YAML::Flow << YAML::BeginSeq
+        << shortestDecimal (setup.box_size_m.x ()) << shortestDecimal (setup.box_size_m.y ())
+        << shortestDecimal (setup.box_size_m.z ()) << YAML::EndSeq;
   if (!setup.mesh_path.empty ())
     out << YAML::Key << "mesh" << YAML::Value << setup.mesh_path;
   out << YAML::Key << "projectors" << YAML::Value << simulator.activeProjectors ();
@@ -68,14 +60,16 @@ simulationMetaYaml (const SceneSetup &setup, const KinectSimulator &simulator, s
   out << YAML::Key << "sensor_pose" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c)
-      out << number (s.pose.matrix () (r, c) + 0.0); // + 0.0: no "-0"
+      out << shortestDecimal (s.pose.matrix () (r, c) + 0.0); // + 0.0: no "-0"
   out << YAML::EndSeq;
   out << YAML::Key << "render_camera" << YAML::Value << YAML::Flow << YAML::BeginMap;
-  out << YAML::Key << "fx" << YAML::Value << number (s.fx) << YAML::Key << "fy" << YAML::Value << number (s.fy);
-  out << YAML::Key << "cx" << YAML::Value << number (s.cx) << YAML::Key << "cy" << YAML::Value << number (s.cy);
+  out << YAML::Key << "fx" << YAML::Value << shortestDecimal (s.fx);
+  out << YAML::Key << "fy" << YAML::Value << shortestDecimal (s.fy);
+  out << YAML::Key << "cx" << YAML::Value << shortestDecimal (s.cx);
+  out << YAML::Key << "cy" << YAML::Value << shortestDecimal (s.cy);
   out << YAML::EndMap;
-  out << YAML::Key << "depth_range_m" << YAML::Value << YAML::Flow << YAML::BeginSeq << number (s.min_depth_m)
-      << number (s.max_depth_m) << YAML::EndSeq;
+  out << YAML::Key << "depth_range_m" << YAML::Value << YAML::Flow << YAML::BeginSeq << shortestDecimal (s.min_depth_m)
+      << shortestDecimal (s.max_depth_m) << YAML::EndSeq;
 
   if (!settings.base_noise)
     out << YAML::Key << "base_noise" << YAML::Value << "none";
@@ -91,7 +85,7 @@ simulationMetaYaml (const SceneSetup &setup, const KinectSimulator &simulator, s
     {
       out << YAML::Key << t.name << YAML::Value << YAML::Flow << YAML::BeginMap;
       for (const auto &p : t.parameters)
-        out << YAML::Key << p.first << YAML::Value << number (p.second);
+        out << YAML::Key << p.first << YAML::Value << shortestDecimal (p.second);
       out << YAML::EndMap;
     }
     out << YAML::EndMap;
@@ -103,7 +97,7 @@ simulationMetaYaml (const SceneSetup &setup, const KinectSimulator &simulator, s
   {
     out << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap;
     for (const auto &p : effectInfo (name).parameters)
-      out << YAML::Key << p.name << YAML::Value << number (effectParameter (settings.effects, name, p.name));
+      out << YAML::Key << p.name << YAML::Value << shortestDecimal (effectParameter (settings.effects, name, p.name));
     out << YAML::EndMap;
   }
   out << YAML::EndMap;

@@ -67,7 +67,7 @@ struct LabMetrics
 /** \brief One effect tried on top of the current model. */
 struct Candidate
 {
-  std::string effect;       ///< DESIGN.md section 5 name
+  std::string effect;       ///< effect name (noiseEffectNames (); docs/sensor_model.md section 6)
   std::string physics;      ///< one line
   std::string signature;    ///< the covariate where it shows
   LabMetrics metrics;       ///< held-out metrics (score half) after adding it
@@ -89,9 +89,9 @@ struct LabSettings
   double null_sigmas = 4.0;      ///< significance: gain > null mean + null_sigmas * null SD
   /** \brief Significance also needs the held-out gain summed over the score half's samples to
     * reach this many nats (a likelihood ratio of e^3 = 20 on data the fit did not see): five
-    * bootstrap gains of a term that often fits to its neutral value have an SD near zero, and a
-    * gain of 0.04 nats in all, which no likelihood-ratio test would call evidence, then passed
-    * mean + 4 SDs (axial_quadratic, 640 x 480, no hidden effect; docs/model_lab.md section 7).
+    * bootstrap gains of a term that often fits to its neutral value can have an SD near zero, and
+    * then a gain no likelihood-ratio test would call evidence passes mean + 4 SDs
+    * (docs/model_lab.md section 4).
     */
   double min_total_gain_nats = 3.0;
   int outer_iterations = 3;      ///< alternations of the linear (bias) and Ceres (variance) fits

@@ -1,6 +1,6 @@
 /*
- * pcl_texlet simulator: a simulated recording written as a recording folder (DESIGN.md
- * section 4): camera.yaml, depth/000000.png ..., meta.yaml.
+ * pcl_texlet simulator: a simulated recording written as a recording folder
+ * (docs/sensor_model.md section 2): camera.yaml, depth/000000.png ..., meta.yaml.
  */
 #pragma once
 

@@ -1,0 +1,210 @@
+/*
+ * pcl_texlet model lab: ranking the candidate effects. Each is fitted on the fit half and scored
+ * on the score half; its gain is judged against the gains of the same fit on data drawn from the
+ * current model (the parametric bootstrap).
+ */
+#include <pcl_texlet/lab/model_lab.h>
+
+#include "bootstrap.h"
+#include "lab_data.h"
+#include "nll_fit.h"
+#include "static_fit.h"
+
+#include <pcl_texlet/common/parallel_for.h>
+#include <pcl_texlet/noise/effect_registry.h>
+#include <pcl_texlet/noise/noise_terms.h>
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numeric>
+#include <random>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace lab
+{
+
+using namespace detail;
+
+std::vector<Candidate>
+ModelLab::rankCandidates (const NoiseModel &current) const
+{
+  const Data &A = data (Half::fit);
+  const Data &B = data (Half::score);
+  auto say = [&] (const std::string &line) {
+    if (settings_.progress)
+      settings_.progress (line);
+  };
+  const int threads = settings_.threads > 0 ? settings_.threads : omp_get_max_threads ();
+
+  // Which effects the data can show at all.
+  std::vector<Candidate> out;
+  bool any_plane = false, any_edges = false;
+  std::vector<double> projectors;
+  for (const auto &r : recordings_)
+  {
+    any_plane = any_plane || r->plane_scene;
+    projectors.push_back (r->active_projectors);
+    std::size_t near = 0;
+    for (std::size_t i = 0; i < r->used.size (); ++i)
+      near += (r->used[i] && r->edge_distance_px[i] < 3.0f) ? 1 : 0;
+    any_edges = any_edges || near > 100;
+  }
+  const bool varied_projectors = *std::max_element (projectors.begin (), projectors.end ()) >
+                                 *std::min_element (projectors.begin (), projectors.end ());
+  for (const auto &name : noiseEffectNames ())
+  {
+    if (current.find (name))
+      continue;
+    Candidate c;
+    c.effect = name;
+    const EffectInfo &info = effectInfo (name);
+    c.physics = info.physics;
+    c.signature = info.signature;
+    if ((info.lab_needs & effects::kNeedsPlaneScene) && !any_plane)
+      c.applicable = false, c.note = "needs a plane scene (meta.yaml scene: plane) to tell a static bias from the surface";
+    else if ((info.lab_needs & effects::kNeedsVariedProjectors) && !varied_projectors)
+      c.applicable = false, c.note = "every recording has the same number of active projectors";
+    else if ((info.lab_needs & effects::kNeedsFrameSplit) && !splitsFrames ())
+      c.applicable = false, c.note = "needs recordings of at least 4 frames";
+    else if ((info.lab_needs & effects::kNeedsDepthEdges) && !any_edges)
+      c.applicable = false, c.note = "no depth edges in the recordings";
+    out.push_back (c);
+  }
+
+  // Data sets: 0 is the real data; 1 .. null_replicates are drawn from the current model (the
+  // null: the same fits where no effect is missing). On each, the current model refitted on the
+  // fit half is what every candidate has to beat.
+  struct DataSet
+  {
+    const Data *fit = nullptr, *score = nullptr;
+    std::unique_ptr<Data> own_fit, own_score;
+    NoiseModel given, fitted; // the model the candidates start from as given, and refitted
+    double fitted_score = 0, fitted_objective = 0;
+  };
+  const int S = 1 + std::max (0, settings_.null_replicates);
+  std::vector<DataSet> sets (S);
+  auto refit = [&] (DataSet &set) {
+    set.fitted = fitOn (set.given, *set.fit, recordings_, settings_);
+    set.fitted_score = scoreOn (set.fitted, *set.score, recordings_);
+    StaticState state;
+    set.fitted_objective = fitObjective (set.fitted, *set.fit, recordings_, state);
+  };
+  say ("lab: refitting the current model on the fit half");
+  sets[0].fit = &A;
+  sets[0].score = &B;
+  sets[0].given = current;
+  refit (sets[0]);
+  const NoiseModel &base = sets[0].fitted;
+  std::mt19937_64 rng (settings_.seed);
+  for (int rep = 1; rep < S; ++rep)
+  {
+    say ("lab: significance, drawing bootstrap data set " + std::to_string (rep) + " of " + std::to_string (S - 1));
+    DataSet &set = sets[rep];
+    set.own_fit = synthesise (A, base, recordings_, rng);
+    set.own_score = synthesise (B, base, recordings_, rng);
+    set.fit = set.own_fit.get ();
+    set.score = set.own_score.get ();
+    // As for the real data: the model as given (here the one the data were drawn from) and its
+    // refit.
+    set.given = base;
+  }
+  say ("lab: refitting the current model on the bootstrap data sets");
+  parallelFor (S - 1, threads, true, [&] (int i) { refit (sets[i + 1]); });
+
+  // Every fit of a candidate on every data set is one task, so that the two threads stay busy
+  // to the end (disparity_quantization, fitted twice, costs more than the others together).
+  struct Fit
+  {
+    int set, candidate;
+    bool from_given; // disparity_quantization's second fit, on top of the model as given
+    NoiseModel model;
+    double objective = 0;
+  };
+  std::vector<Fit> fits;
+  for (int set = 0; set < S; ++set)
+    for (int k = 0; k < static_cast<int> (out.size ()); ++k)
+      if (out[k].applicable)
+      {
+        fits.push_back ({set, k, false, NoiseModel (), 0.0});
+        if (effectInfo (out[k].effect).quantises &&
+            sets[set].given.terms ().size () == sets[set].fitted.terms ().size ())
+          fits.push_back ({set, k, true, NoiseModel (), 0.0});
+      }
+  say ("lab: fitting " + std::to_string (out.size ()) + " candidates on " + std::to_string (S) + " data sets (" +
+       std::to_string (fits.size ()) + " fits)");
+  // The longest first: disparity_quantization's fits, then the rest in order.
+  std::vector<int> order (fits.size ());
+  std::iota (order.begin (), order.end (), 0);
+  std::stable_partition (order.begin (), order.end (),
+                         [&] (int i) { return effectInfo (out[fits[i].candidate].effect).quantises; });
+  parallelFor (static_cast<int> (fits.size ()), threads, true, [&] (int i) {
+    Fit &f = fits[order[i]];
+    const DataSet &set = sets[f.set];
+    f.model = fitWithEffect (set.fitted, set.given, out[f.candidate].effect, *set.fit, recordings_, settings_,
+                             set.fitted_objective, f.from_given ? 1 : 0);
+    NoiseModel copy (f.model);
+    StaticState state;
+    f.objective = fitObjective (copy, *set.fit, recordings_, state);
+  });
+
+  // Per data set and candidate the better of its fits on the fit half, scored on the other half.
+  std::vector<std::vector<double>> null_gains (out.size (), std::vector<double> (S - 1, 0.0));
+  std::vector<int> chosen;
+  for (int i = 0; i < static_cast<int> (fits.size ()); ++i)
+  {
+    const bool same = !chosen.empty () && fits[chosen.back ()].set == fits[i].set &&
+                      fits[chosen.back ()].candidate == fits[i].candidate;
+    if (!same)
+      chosen.push_back (i);
+    else if (fits[i].objective < fits[chosen.back ()].objective)
+      chosen.back () = i;
+  }
+  parallelFor (static_cast<int> (chosen.size ()), threads, true, [&] (int i) {
+    const Fit &f = fits[chosen[i]];
+    const DataSet &set = sets[f.set];
+    const double gain = set.fitted_score - scoreOn (f.model, *set.score, recordings_);
+    if (f.set > 0)
+    {
+      null_gains[f.candidate][f.set - 1] = gain;
+      return;
+    }
+    Candidate &c = out[f.candidate];
+    c.model = f.model;
+    c.gain = gain;
+    c.metrics = evaluate (c.model, Half::score);
+#pragma omp critical(lab_progress)
+    say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample");
+  });
+  for (std::size_t k = 0; k < out.size (); ++k)
+  {
+    Candidate &c = out[k];
+    const auto &g = null_gains[k];
+    if (!c.applicable || g.empty ())
+      continue;
+    const double mean = std::accumulate (g.begin (), g.end (), 0.0) / g.size ();
+    double var = 0;
+    for (double x : g)
+      var += (x - mean) * (x - mean);
+    c.null_mean = mean;
+    c.null_sd = g.size () > 1 ? std::sqrt (var / (g.size () - 1)) : 0.0;
+    c.threshold = mean + settings_.null_sigmas * c.null_sd;
+    c.total_gain = c.gain * B.samples;
+    c.significant = c.gain > c.threshold && c.gain > 0 && c.total_gain >= settings_.min_total_gain_nats;
+  }
+  std::stable_sort (out.begin (), out.end (), [] (const Candidate &a, const Candidate &b) {
+    if (a.applicable != b.applicable)
+      return a.applicable;
+    return a.gain > b.gain;
+  });
+  return out;
+}
+
+} // namespace lab
+} // namespace texlet
+} // namespace pcl

@@ -1,0 +1,285 @@
+#include "nll_fit.h"
+#include "likelihood.h"
+
+#include <pcl_texlet/noise/effect_registry.h>
+#include <pcl_texlet/noise/noise_terms.h>
+
+#include <ceres/first_order_function.h>
+#include <ceres/gradient_problem.h>
+#include <ceres/gradient_problem_solver.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace lab
+{
+namespace detail
+{
+
+namespace
+{
+
+/** Where a model's fitted parameters live: (term index, parameter index), with a scale. */
+struct ParameterMap
+{
+  std::vector<std::pair<std::size_t, std::size_t>> where;
+  std::vector<double> scale;
+};
+
+/** The parameters a fit changes: every term's but a linear bias term's (or only \a only_term's). */
+ParameterMap
+parameterMap (const NoiseModel &m, int only_term = -1)
+{
+  ParameterMap pm;
+  for (std::size_t t = 0; t < m.terms ().size (); ++t)
+  {
+    const auto &term = m.terms ()[t];
+    // A linear bias term is fitted by least squares, not here.
+    if (term->linearBiasSupport () > 0 || (only_term >= 0 && static_cast<int> (t) != only_term))
+      continue;
+    const auto values = term->parameters ();
+    for (std::size_t k = 0; k < values.size (); ++k)
+    {
+      pm.where.emplace_back (t, k);
+      pm.scale.push_back (std::max (std::fabs (values[k]), term->typicalScale (k)));
+    }
+  }
+  return pm;
+}
+
+/** Sets the parameters of \a pm to \a x times their scales. */
+void
+setScaled (NoiseModel &m, const ParameterMap &pm, const double *x)
+{
+  std::size_t k = 0;
+  while (k < pm.where.size ())
+  {
+    const std::size_t t = pm.where[k].first;
+    auto values = m.terms ()[t]->parameters ();
+    for (; k < pm.where.size () && pm.where[k].first == t; ++k)
+      values[pm.where[k].second] = x[k] * pm.scale[k];
+    m.terms ()[t]->setParameters (values);
+  }
+}
+
+/** The temporal NLL per sample of the model with the parameters of \a pm, for Ceres. */
+class NllFunction : public ceres::FirstOrderFunction
+{
+public:
+  NllFunction (const NoiseModel &model, const ParameterMap &pm, const ModelLab::Data &d, const StaticState &s,
+               double samples)
+    : model_ (model), pm_ (pm), d_ (d), s_ (s), samples_ (samples)
+  {
+  }
+
+  bool
+  Evaluate (const double *x, double *cost, double *gradient) const override
+  {
+    const int n = NumParameters ();
+    if (!value (x, cost))
+      return false;
+    if (gradient)
+    {
+      std::vector<double> xx (x, x + n);
+      for (int k = 0; k < n; ++k)
+      {
+        const double h = 1e-5 * std::max (1.0, std::fabs (x[k]));
+        double fp = 0, fm = 0;
+        xx[k] = x[k] + h;
+        const bool okp = value (xx.data (), &fp);
+        xx[k] = x[k] - h;
+        const bool okm = value (xx.data (), &fm);
+        xx[k] = x[k];
+        if (!okp || !okm)
+          return false;
+        gradient[k] = (fp - fm) / (2 * h);
+      }
+    }
+    return true;
+  }
+
+  int
+  NumParameters () const override { return static_cast<int> (pm_.where.size ()); }
+
+private:
+  bool
+  value (const double *x, double *cost) const
+  {
+    setScaled (model_, pm_, x);
+    const ModelView mv (model_);
+    binMoments (mv, mv.quantised ? d_.qbins : d_.bins, s_);
+    // Variance parameters are fitted on the temporal contrasts only (as REML does): the
+    // pixels' means are for the surfaces and the bias terms, so that an unmodelled bias is not
+    // taken for noise.
+    const double L = objective (mv, d_, s_, false) / samples_;
+    if (!std::isfinite (L))
+      return false;
+    *cost = L;
+    return true;
+  }
+
+  mutable NoiseModel model_;
+  const ParameterMap &pm_;
+  const ModelLab::Data &d_;
+  // The caller's state, copied once: an evaluation rewrites only its per-bin moments, and a copy
+  // per evaluation would move the per-pixel biases too (docs/model_lab.md section 9).
+  mutable StaticState s_;
+  double samples_;
+};
+
+/** Starting values for a term that was just added (its neutral values sit on a saddle): the
+  * term's own, some from the recordings.
+  */
+void
+startValues (NoiseTerm &term, const std::vector<RecordingMeasurement::ConstPtr> &recs)
+{
+  effects::LabStart facts;
+  facts.image_width = recs.front ()->width;
+  facts.image_height = recs.front ()->height;
+  facts.disparity_step_px = recs.front ()->camera.disparity_subpixel;
+  term.setLabStart (facts);
+}
+
+/** One Ceres run over the parameters of \a pm, from the model's current values. */
+void
+ceresRun (NoiseModel &model, const ParameterMap &pm, const ModelLab::Data &d, const StaticState &s,
+          const LabSettings &settings)
+{
+  if (pm.where.empty ())
+    return;
+  std::vector<double> x (pm.where.size ());
+  for (std::size_t k = 0; k < x.size (); ++k)
+    x[k] = model.terms ()[pm.where[k].first]->parameters ()[pm.where[k].second] / pm.scale[k];
+  ceres::GradientProblem problem (new NllFunction (model, pm, d, s, d.samples));
+  ceres::GradientProblemSolver::Options options;
+  options.line_search_direction_type = ceres::LBFGS;
+  options.max_num_iterations = settings.max_lbfgs_iterations;
+  options.function_tolerance = 1e-10;
+  options.gradient_tolerance = 1e-9;
+  options.logging_type = ceres::SILENT;
+  ceres::GradientProblemSolver::Summary summary;
+  const std::vector<double> x0 = x;
+  ceres::Solve (options, problem, x.data (), &summary);
+  bool finite = true;
+  for (double v : x)
+    finite = finite && std::isfinite (v);
+  setScaled (model, pm, finite ? x.data () : x0.data ());
+}
+
+/** \a model with the effect \a name added at its starting values. */
+NoiseModel
+withTerm (const NoiseModel &model, const std::string &name, const std::vector<RecordingMeasurement::ConstPtr> &recs)
+{
+  NoiseModel m (model);
+  NoiseTerm::Ptr term = makeNoiseTerm (name);
+  startValues (*term, recs);
+  m.add (*term);
+  return m;
+}
+
+} // namespace
+
+double
+fitObjective (NoiseModel &model, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
+              StaticState &s)
+{
+  const ModelView mv (model);
+  staticFit (mv, d, recs, true, s);
+  if (mv.grid && !s.grid.empty ())
+    model.find (mv.grid->name ())->setParameters (s.grid);
+  return objective (ModelView (model), d, s) / d.samples;
+}
+
+NoiseModel
+fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
+       const LabSettings &settings, int new_term, double nested_objective)
+{
+  NoiseModel model (start);
+  const ParameterMap pm = parameterMap (model);
+  bool has_static = false; // a rounding or a linear bias term: the static fit changes with the rest
+  for (const auto &t : model.terms ())
+    has_static = has_static || t->quantises () || t->linearBiasSupport () > 0;
+  const int outer = has_static ? std::max (1, settings.outer_iterations) : std::min (2, std::max (1, settings.outer_iterations));
+  if (new_term >= 0)
+  {
+    const ParameterMap own = parameterMap (model, new_term);
+    if (!own.where.empty ())
+    {
+      // Scan the scale of the term's first parameter, then fit its parameters alone.
+      const auto &term = model.terms ()[new_term];
+      const std::vector<double> initial = term->parameters ();
+      double best = std::numeric_limits<double>::infinity ();
+      std::vector<double> best_values = initial;
+      for (double f : {0.1, 0.3, 1.0, 3.0})
+      {
+        std::vector<double> v = initial;
+        v[0] *= f;
+        term->setParameters (v);
+        StaticState s;
+        const double L = fitObjective (model, d, recs, s);
+        if (L < best)
+          best = L, best_values = v;
+      }
+      term->setParameters (best_values);
+      StaticState s;
+      fitObjective (model, d, recs, s);
+      ceresRun (model, own, d, s, settings);
+    }
+  }
+  for (int it = 0; it < outer; ++it)
+  {
+    StaticState s;
+    fitObjective (model, d, recs, s);
+    ceresRun (model, pm, d, s, settings);
+  }
+  StaticState s;
+  const double L = fitObjective (model, d, recs, s);
+  if (new_term >= 0 && std::isfinite (nested_objective) && !(L <= nested_objective))
+  {
+    // Worse than without the term: the fit is stuck; the nested model with the term neutral.
+    NoiseModel nested (start);
+    const std::string name = nested.terms ()[new_term]->name ();
+    const NoiseTerm::Ptr neutral = makeNoiseTerm (name);
+    nested.terms ()[new_term]->setParameters (neutral->parameters ());
+    return nested;
+  }
+  return model;
+}
+
+NoiseModel
+fitWithEffect (const NoiseModel &fitted, const NoiseModel &given, const std::string &name, const ModelLab::Data &d,
+               const std::vector<RecordingMeasurement::ConstPtr> &recs, const LabSettings &settings,
+               double nested_objective, int fits)
+{
+  const int added = static_cast<int> (fitted.terms ().size ());
+  const bool two_fits = effectInfo (name).quantises && given.terms ().size () == fitted.terms ().size ();
+  if (fits == 1 && two_fits)
+    return fitOn (withTerm (given, name, recs), d, recs, settings, added, nested_objective);
+  NoiseModel m = fitOn (withTerm (fitted, name, recs), d, recs, settings, added, nested_objective);
+  if (fits >= 0 || !two_fits)
+    return m;
+  NoiseModel alt = fitOn (withTerm (given, name, recs), d, recs, settings, added, nested_objective);
+  NoiseModel m_copy (m), alt_copy (alt);
+  StaticState sm, sa;
+  return fitObjective (alt_copy, d, recs, sa) < fitObjective (m_copy, d, recs, sm) ? alt : m;
+}
+
+double
+scoreOn (const NoiseModel &model, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs)
+{
+  const ModelView mv (model);
+  StaticState s;
+  staticFit (mv, d, recs, false, s);
+  return objective (mv, d, s) / d.samples;
+}
+
+} // namespace detail
+} // namespace lab
+} // namespace texlet
+} // namespace pcl

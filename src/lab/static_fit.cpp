@@ -1,0 +1,178 @@
+#include "static_fit.h"
+
+#include <pcl/exceptions.h>
+
+#include <Eigen/Dense>
+
+#include <cmath>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace lab
+{
+namespace detail
+{
+
+double
+linearBiasPx (const NoiseTerm &grid, const std::vector<double> &nodes, double u, double v)
+{
+  int idx[kMaxBiasBasis];
+  double wt[kMaxBiasBasis];
+  grid.linearBiasBasis (u, v, idx, wt);
+  double offset = 0;
+  for (int k = 0; k < grid.linearBiasSupport (); ++k)
+    offset += wt[k] * nodes[idx[k]];
+  return offset;
+}
+
+double
+floorVar (const NoiseModel &m, double var)
+{
+  const double f = m.minSigmaMm () * m.minSigmaMm ();
+  return (var > f ? var : f) + 1.0 / 12.0;
+}
+
+void
+binMoments (const ModelView &mv, const std::vector<Bin> &bins, StaticState &s)
+{
+  s.bin_var.resize (bins.size ());
+  s.bin_col.resize (bins.size ());
+  s.bin_bias.resize (bins.size ());
+  for (std::size_t b = 0; b < bins.size (); ++b)
+  {
+    const NoiseMoments m = mv.without_grid.moments (bins[b].ctx);
+    s.bin_var[b] = floorVar (mv.model, m.variance_mm2);
+    s.bin_col[b] = m.column_variance_mm2;
+    s.bin_bias[b] = mv.quantised ? m.bias_mm : 0.0;
+  }
+}
+
+void
+staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
+           bool fit_grid, StaticState &s)
+{
+  const std::vector<Bin> &bins = mv.quantised ? d.qbins : d.bins;
+  binMoments (mv, bins, s);
+  const std::size_t R = recs.size ();
+  const std::vector<double> fixed_grid = mv.grid ? mv.grid->parameters () : std::vector<double> ();
+  const int G = mv.grid && fit_grid ? static_cast<int> (fixed_grid.size ()) : 0;
+  const int K = mv.grid ? mv.grid->linearBiasSupport () : 0;
+  // Quantised models: the mean offset of the rounding at each pixel's own sub-step phase (it
+  // changes by a whole step over a phase, too fast for bins), from the bin's noise before it.
+  s.pixel_bias.clear ();
+  if (mv.quantised)
+  {
+    std::vector<double> pre_var (bins.size ()), pre_bias (bins.size ());
+    for (std::size_t b = 0; b < bins.size (); ++b)
+    {
+      const NoiseMoments m = mv.pre_quantised.moments (bins[b].ctx);
+      pre_var[b] = m.variance_mm2;
+      pre_bias[b] = m.bias_mm;
+    }
+    s.pixel_bias.resize (d.px.size ());
+    const int P = static_cast<int> (d.px.size ());
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < P; ++k)
+    {
+      const PixelRow &p = d.px[k];
+      const RecordingMeasurement &m = *recs[p.rec];
+      const double d0 = 1000.0 * m.fb () / m.surface_mm[p.index] - pre_bias[p.qbin] / p.J;
+      double offset = 0, var = 0;
+      mv.quantiser->roundingMoments (d0, std::sqrt (pre_var[p.qbin]) / p.J, offset, var);
+      s.pixel_bias[k] = static_cast<float> (pre_bias[p.qbin] - p.J * offset);
+    }
+  }
+  const int N = static_cast<int> (3 * R) + G;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero (N, N);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero (N);
+  auto gridAt = [&] (const PixelRow &p, int *idx, double *wt) {
+    const RecordingMeasurement &m = *recs[p.rec];
+    mv.grid->linearBiasBasis (double (p.index % m.width), double (p.index / m.width), idx, wt);
+  };
+  auto target = [&] (const PixelRow &p) {
+    double t = p.disparity + (mv.quantised ? s.pixel_bias[&p - d.px.data ()] / p.J : 0.0);
+    if (mv.grid && !fit_grid)
+    {
+      int idx[kMaxBiasBasis];
+      double wt[kMaxBiasBasis];
+      gridAt (p, idx, wt);
+      for (int k = 0; k < K; ++k)
+        t -= wt[k] * fixed_grid[idx[k]];
+    }
+    return t;
+  };
+  for (const PixelRow &p : d.px)
+  {
+    if (!d.plane[p.rec] || !p.inlier)
+      continue;
+    const int b = mv.quantised ? p.qbin : p.bin;
+    const double w = p.n * p.J * p.J / (s.bin_var[b] + s.bin_col[b]);
+    const double t = target (p);
+    const double row[3] = {1.0, p.x, p.y};
+    const int o = 3 * p.rec;
+    for (int a = 0; a < 3; ++a)
+    {
+      rhs[o + a] += w * row[a] * t;
+      for (int c = 0; c < 3; ++c)
+        A (o + a, o + c) += w * row[a] * row[c];
+    }
+    if (G)
+    {
+      int idx[kMaxBiasBasis];
+      double wt[kMaxBiasBasis];
+      gridAt (p, idx, wt);
+      for (int k = 0; k < K; ++k)
+      {
+        const int gk = static_cast<int> (3 * R) + idx[k];
+        rhs[gk] += w * wt[k] * t;
+        for (int a = 0; a < 3; ++a)
+        {
+          A (gk, o + a) += w * wt[k] * row[a];
+          A (o + a, gk) += w * wt[k] * row[a];
+        }
+        for (int l = 0; l < K; ++l)
+          A (gk, static_cast<int> (3 * R) + idx[l]) += w * wt[k] * wt[l];
+      }
+    }
+  }
+  // A small ridge keeps nodes without data (and the grid's mean, which the planes share) at zero.
+  const double ridge = 1e-9 * (A.diagonal ().cwiseAbs ().maxCoeff () + 1.0);
+  for (int k = 0; k < N; ++k)
+    A (k, k) += (k >= static_cast<int> (3 * R)) ? 1e3 * ridge : ridge;
+  const Eigen::VectorXd sol = A.ldlt ().solve (rhs);
+  s.planes.assign (R, Eigen::Vector3d::Zero ());
+  for (std::size_t r = 0; r < R; ++r)
+    s.planes[r] = sol.segment<3> (3 * r);
+  s.grid.clear ();
+  if (G)
+    s.grid.assign (sol.data () + 3 * R, sol.data () + N);
+
+  s.ss_static.assign (bins.size (), 0.0);
+  for (const PixelRow &p : d.px)
+  {
+    const RecordingMeasurement &m = *recs[p.rec];
+    double predicted;
+    if (d.plane[p.rec])
+      predicted = s.planes[p.rec].dot (Eigen::Vector3d (1.0, p.x, p.y));
+    else
+      predicted = 1000.0 * m.fb () / m.surface_mm[p.index];
+    if (G)
+    {
+      int idx[kMaxBiasBasis];
+      double wt[kMaxBiasBasis];
+      gridAt (p, idx, wt);
+      for (int k = 0; k < K; ++k)
+        predicted += wt[k] * s.grid[idx[k]];
+    }
+    const double e = p.J * (target (p) - predicted);
+    const int b = mv.quantised ? p.qbin : p.bin;
+    s.ss_static[b] += p.n * e * e;
+  }
+}
+
+} // namespace detail
+} // namespace lab
+} // namespace texlet
+} // namespace pcl

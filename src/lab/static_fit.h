@@ -1,0 +1,99 @@
+/*
+ * pcl_texlet model lab (internal): the linear part of a fit. The model as the fits see it
+ * (ModelView), and the least-squares fit of the surfaces and a distortion grid to the pixels'
+ * means with the model's other biases removed (staticFit), which every objective needs first.
+ */
+#pragma once
+
+#include "lab_data.h"
+
+#include <pcl_texlet/noise/noise_model.h>
+
+#include <pcl/exceptions.h>
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace lab
+{
+namespace detail
+{
+
+/** The most basis functions a linear bias term may have at one pixel. */
+constexpr int kMaxBiasBasis = 16;
+
+/** The model as the fits see it: the term whose bias is linear (a distortion grid, fitted by
+  * least squares with the surfaces) and the term that rounds apart from the rest.
+  */
+struct ModelView
+{
+  const NoiseModel &model;
+  bool quantised = false;
+  NoiseModel without_grid;   // the model less the linear bias term (its bias is per pixel)
+  NoiseModel pre_quantised;  // ... and less the rounding term (its bias is per pixel too)
+  NoiseTerm::ConstPtr quantiser;
+  NoiseTerm::ConstPtr grid;
+  explicit ModelView (const NoiseModel &m) : model (m), without_grid (m), pre_quantised (m)
+  {
+    for (const auto &t : m.terms ())
+    {
+      if (!grid && t->linearBiasSupport () > 0)
+        grid = t;
+      if (!quantiser && t->quantises ())
+        quantiser = t;
+    }
+    quantised = quantiser != nullptr;
+    if (grid)
+    {
+      if (grid->linearBiasSupport () > kMaxBiasBasis)
+        throw pcl::BadArgumentException ("model lab: the term '" + grid->name () + "' has more than " +
+                                         std::to_string (kMaxBiasBasis) + " bias basis functions at a pixel");
+      without_grid.remove (grid->name ());
+      pre_quantised.remove (grid->name ());
+    }
+    if (quantiser)
+      pre_quantised.remove (quantiser->name ());
+  }
+};
+
+/** The disparity offset (px) of linear bias term \a grid with node values \a nodes at (u, v). */
+double
+linearBiasPx (const NoiseTerm &grid, const std::vector<double> &nodes, double u, double v);
+
+/** Result of the linear fit of surfaces (and a distortion grid) for one model on one half. */
+struct StaticState
+{
+  std::vector<Eigen::Vector3d> planes;   // per recording (plane scenes)
+  std::vector<double> grid;              // fitted grid node offsets, px (empty: the model's own)
+  std::vector<double> ss_static;         // per bin of the set in use: sum of n e^2
+  std::vector<double> bin_var, bin_col, bin_bias; // per bin of the set in use
+  std::vector<float> pixel_bias;         // quantised models: per-pixel bias (mm) of the other terms
+};
+
+/** Variance of a recorded sample: the model's (never below its floor) plus that of the
+  * recording's resolution, whole millimetres (16-bit PNG depth): 1/12 mm^2.
+  */
+double
+floorVar (const NoiseModel &m, double var);
+
+/** Bin moments of the model (without the distortion grid, whose bias is per pixel). */
+void
+binMoments (const ModelView &mv, const std::vector<Bin> &bins, StaticState &s);
+
+/** Linear fit of the surfaces (plane scenes) and, when fit_grid, of the distortion grid, to the
+  * pixels' mean disparities with the model's other biases removed; then the static sums.
+  */
+void
+staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
+           bool fit_grid, StaticState &s);
+
+} // namespace detail
+} // namespace lab
+} // namespace texlet
+} // namespace pcl
