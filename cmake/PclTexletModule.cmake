@@ -16,6 +16,9 @@ function(pcl_texlet_module name)
     set_target_properties(${target} PROPERTIES VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}
       INSTALL_RPATH "$ORIGIN")
     target_link_libraries(${target} PRIVATE ${M_PRIVATE})
+    # PCL's imported targets carry VTK, Qt and Boost in their link interface; a module records
+    # only the libraries it calls. GCC implies --as-needed, but not under -fsanitize.
+    target_link_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU,Clang>:LINKER:--as-needed>)
     target_compile_options(${target} PRIVATE -Wall -Wextra)
     # The kernels give the same bits at every SIMD level and in every module: no FMA contraction;
     # errno is never read, so sqrt in SIMD loops needs no check.
