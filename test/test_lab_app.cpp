@@ -8,7 +8,8 @@
 #include <pcl_texlet/io/noise_model_io.h>
 #include <pcl_texlet/noise/noise_terms.h>
 #include <pcl_texlet/camera/pinhole_model.h>
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/camera_yaml.h>
+#include <pcl_texlet/io/open_recording.h>
 #include <pcl_texlet/features/texlet_estimation.h>
 
 #include <pcl/io/pcd_io.h>

@@ -6,7 +6,7 @@
  * Lines starting with "[signature]" report the measured figures.
  */
 #include <pcl_texlet/kernels/structured_light.h>
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/recording_folder_reader.h>
 #include <pcl_texlet/io/recording_writer.h>
 #include <pcl_texlet/noise/effect_adapter.h>
 #include <pcl_texlet/noise/effects/axial_quadratic.h>

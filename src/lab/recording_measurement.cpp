@@ -1,5 +1,5 @@
 #include <pcl_texlet/lab/recording_measurement.h>
-#include <pcl_texlet/io/recording_readers.h>
+#include <pcl_texlet/io/open_recording.h>
 
 #include <pcl/exceptions.h>
 

@@ -14,7 +14,7 @@
 #pragma once
 
 #include <pcl_texlet/noise/noise_model.h>
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/recording_reader.h>
 
 #include <cstdint>
 #include <memory>

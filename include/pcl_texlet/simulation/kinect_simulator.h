@@ -19,7 +19,8 @@
  */
 #pragma once
 
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/camera/camera_info.h>
+#include <pcl_texlet/camera/depth_frame.h>
 #include <pcl_texlet/simulation/depth_sensor.h>
 #include <pcl_texlet/simulation/scene.h>
 #include <pcl_texlet/simulation/simulation_settings.h>
