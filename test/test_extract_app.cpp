@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "support/app_run.h"
+#include "support/app_test.h"
 #include "support/recording_folder.h"
 #include "support/temp_dir.h"
 
@@ -30,23 +30,18 @@ namespace
 using Result = pcl_texlet_test::AppResult;
 using pcl_texlet_test::slurp;
 
-class ExtractApp : public pcl_texlet_test::TempDirTest
+class ExtractApp : public pcl_texlet_test::AppTest
 {
 protected:
-  Result
-  run (const std::string &args)
-  {
-    return pcl_texlet_test::runApp (EXTRACT_APP, args, dir_);
-  }
+  ExtractApp () : AppTest (EXTRACT_APP) {}
 
-  /** Bad input: exit 2, exactly one line on stderr that mentions `needle`, no output file. */
+  using AppTest::expectRejected;
+
+  /** Bad input, and no output file nor temporary beside where it would be. */
   void
   expectRejected (const std::string &args, const std::string &needle, const fs::path &output)
   {
-    const Result r = run (args);
-    EXPECT_EQ (r.code, 2) << args << "\n" << r.err;
-    EXPECT_EQ (std::count (r.err.begin (), r.err.end (), '\n'), 1) << r.err;
-    EXPECT_NE (r.err.find (needle), std::string::npos) << "stderr: " << r.err << " should mention " << needle;
+    expectRejected (args, needle);
     EXPECT_FALSE (fs::exists (output)) << output;
     EXPECT_EQ (pcl_texlet_test::temporariesIn (output.parent_path ()), std::vector<std::string> ());
   }

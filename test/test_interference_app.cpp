@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "support/app_run.h"
+#include "support/app_test.h"
 #include "support/temp_dir.h"
 
 #include <sys/wait.h>
@@ -44,27 +44,18 @@ occurrences (const std::string &text, const std::string &needle)
   return n;
 }
 
-class InterferenceApp : public pcl_texlet_test::TempDirTest
+class InterferenceApp : public pcl_texlet_test::AppTest
 {
 protected:
+  InterferenceApp () : AppTest (INTERFERENCE_APP) {}
+
+  using AppTest::run;
+
+  /** Runs another app (the simulator) with its output captured here too. */
   Result
-  run (const std::string &app, const std::string &args)
+  run (const std::string &app, const std::string &args) const
   {
     return pcl_texlet_test::runApp (app, args, dir_);
-  }
-
-  Result
-  study (const std::string &args) { return run (INTERFERENCE_APP, args); }
-
-  void
-  expectRejected (const std::string &args, const std::string &needle)
-  {
-    const std::vector<std::string> before = leftovers ();
-    const Result r = study (args);
-    EXPECT_EQ (r.code, 2) << args << "\n" << r.err;
-    EXPECT_EQ (std::count (r.err.begin (), r.err.end (), '\n'), 1) << r.err;
-    EXPECT_NE (r.err.find (needle), std::string::npos) << "stderr: " << r.err << " should mention " << needle;
-    EXPECT_EQ (leftovers (), before) << args;
   }
 
   /** The simulator's box scene recorded by all three sensors (3 active projectors), QVGA. */
@@ -84,7 +75,7 @@ protected:
 
 TEST_F (InterferenceApp, HelpListsTheOptions)
 {
-  const Result r = study ("--help");
+  const Result r = run ("--help");
   EXPECT_EQ (r.code, 0);
   for (const char *option : {"--simulate", "--recordings", "--extrinsics", "--object", "--projectors", "--radii",
                              "--histogram-radii", "--angle-tol", "--distance-tol", "--threads"})
@@ -94,7 +85,7 @@ TEST_F (InterferenceApp, HelpListsTheOptions)
 TEST_F (InterferenceApp, SimulatedStudyWritesHistogramsTableAndReport)
 {
   const fs::path out = dir_ / "study";
-  const Result r = study ("--simulate --width 320 --height 240 --radii 3,8 --projectors 1,3 --histogram-radii 8 -j 2 " +
+  const Result r = run ("--simulate --width 320 --height 240 --radii 3,8 --projectors 1,3 --histogram-radii 8 -j 2 " +
                           out.string ());
   ASSERT_EQ (r.code, 0) << r.err;
   EXPECT_NE (r.out.find ("projectors 3, radius  8"), std::string::npos) << r.out; // progress
@@ -138,7 +129,7 @@ TEST_F (InterferenceApp, RecordingsFromTheSimulatorWithMetaPosesOrExtrinsics)
   const fs::path rec = recordBox ("rec");
   const std::string folders = (rec / "sensor_0").string () + "," + (rec / "sensor_1").string () + "," +
                               (rec / "sensor_2").string ();
-  Result r = study ("--recordings " + folders + " --radii 6 --no-plots -q " + (dir_ / "meta").string ());
+  Result r = run ("--recordings " + folders + " --radii 6 --no-plots -q " + (dir_ / "meta").string ());
   ASSERT_EQ (r.code, 0) << r.err;
   const json a = json::parse (slurp (dir_ / "meta" / "inliers.json"));
   ASSERT_EQ (a["cells"].size (), 1u);
@@ -160,7 +151,7 @@ TEST_F (InterferenceApp, RecordingsFromTheSimulatorWithMetaPosesOrExtrinsics)
     fs::remove (rec / ext[s].name / "meta.yaml");
   }
   pcl::texlet::saveExtrinsicsYaml ((dir_ / "extrinsics.yaml").string (), ext);
-  r = study ("--recordings " + folders + " --extrinsics " + (dir_ / "extrinsics.yaml").string () +
+  r = run ("--recordings " + folders + " --extrinsics " + (dir_ / "extrinsics.yaml").string () +
              " --projectors 3 --radii 6 --no-plots -q " + (dir_ / "ext").string ());
   ASSERT_EQ (r.code, 0) << r.err;
   const json b = json::parse (slurp (dir_ / "ext" / "inliers.json"));
@@ -216,7 +207,7 @@ TEST_F (InterferenceApp, GpuBackendRunsOrSaysWhyNot)
   // device (or a build without CUDA) one line naming the reason, exit 2, no output.
   const std::string args = "--simulate --width 160 --height 120 --radii 4 --projectors 1,2 --no-plots -q ";
   const fs::path cpu_out = dir_ / "cpu", gpu_out = dir_ / "gpu";
-  const Result gpu = study ("--backend gpu " + args + gpu_out.string ());
+  const Result gpu = run ("--backend gpu " + args + gpu_out.string ());
   if (gpu.code == 2)
   {
     EXPECT_EQ (occurrences (gpu.err, "\n"), 1u) << gpu.err;
@@ -229,7 +220,7 @@ TEST_F (InterferenceApp, GpuBackendRunsOrSaysWhyNot)
   else
   {
     ASSERT_EQ (gpu.code, 0) << gpu.err;
-    const Result cpu = study ("--backend cpu " + args + cpu_out.string ());
+    const Result cpu = run ("--backend cpu " + args + cpu_out.string ());
     ASSERT_EQ (cpu.code, 0) << cpu.err;
     const json g = json::parse (slurp (gpu_out / "inliers.json")), c = json::parse (slurp (cpu_out / "inliers.json"));
     EXPECT_EQ (g["setup"]["relation_backend"], "gpu");

@@ -3,7 +3,7 @@
  * same bytes for the same seed, configuration files, and bad input (exit code 2, one line on
  * stderr, no output left behind).
  */
-#include <pcl_texlet/io/recording.h>
+#include <pcl_texlet/io/recording_folder_reader.h>
 
 #include <pcl/conversions.h>
 #include <pcl/io/ply_io.h>
@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "support/app_run.h"
+#include "support/app_test.h"
 #include "support/temp_dir.h"
 
 #include <algorithm>
@@ -29,26 +29,10 @@ namespace
 using Result = pcl_texlet_test::AppResult;
 using pcl_texlet_test::slurp;
 
-class SimApp : public pcl_texlet_test::TempDirTest
+class SimApp : public pcl_texlet_test::AppTest
 {
 protected:
-  Result
-  run (const std::string &args)
-  {
-    return pcl_texlet_test::runApp (SIM_APP, args, dir_);
-  }
-
-  /** Bad input: exit 2, exactly one line on stderr mentioning `needle`, nothing new left. */
-  void
-  expectRejected (const std::string &args, const std::string &needle)
-  {
-    const std::vector<std::string> before = leftovers ();
-    const Result r = run (args);
-    EXPECT_EQ (r.code, 2) << args << "\n" << r.err;
-    EXPECT_EQ (std::count (r.err.begin (), r.err.end (), '\n'), 1) << r.err;
-    EXPECT_NE (r.err.find (needle), std::string::npos) << "stderr: " << r.err << " should mention " << needle;
-    EXPECT_EQ (leftovers (), before) << args;
-  }
+  SimApp () : AppTest (SIM_APP) {}
 };
 
 } // namespace
