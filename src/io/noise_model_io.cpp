@@ -79,7 +79,7 @@ noiseModelToYaml (const NoiseModel &model)
     return text + "}";
   };
   std::ostringstream out;
-  out << "# pcl_texlet noise model: depth SD and bias in mm (DESIGN.md section 5 terms)\n";
+  out << "# pcl_texlet noise model: depth SD and bias in mm (its terms: docs/architecture.md, section 4)\n";
   out << "min_sigma_mm: " << number (d.min_sigma_mm) << "\n";
   out << "terms:\n";
   for (const auto &t : d.terms)

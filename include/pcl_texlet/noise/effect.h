@@ -133,6 +133,16 @@ withFieldValues (const std::vector<Field<S>> &fields, const std::vector<double> 
   return s;
 }
 
+/** \brief What an effect says of itself, for people: the covariate where it shows, its law in
+  * one line (the simulator's), and its physics in one line (why the sensor shows it).
+  */
+struct EffectText
+{
+  const char *signature;
+  const char *summary;
+  const char *physics;
+};
+
 /** \brief One fitted parameter of an effect's noise term. */
 struct TermParameter
 {

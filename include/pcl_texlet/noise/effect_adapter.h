@@ -58,9 +58,7 @@ struct SettingsOfImpl<E, std::void_t<typename E::TermSettings>>
 
 template <typename E> using SettingsOf = typename SettingsOfImpl<E>::type;
 
-// Texts and flags.
-template <typename E> using PhysicsOp = decltype (E::kPhysics);
-template <typename E> using SignatureOp = decltype (E::kSignature);
+// Flags.
 template <typename E> using ScaledOp = decltype (E::kScaledByFactors);
 template <typename E> using FrameDependentOp = decltype (E::kFrameDependent);
 template <typename E> using LabNeedsOp = decltype (E::kLabNeeds);
@@ -135,26 +133,6 @@ constexpr bool
 hasTerm ()
 {
   return Has<E, TermParametersOp>::value || Has<E, TermParameterNamesOp>::value;
-}
-
-template <typename E>
-std::string
-physicsOf ()
-{
-  if constexpr (Has<E, PhysicsOp>::value)
-    return E::kPhysics;
-  else
-    return "";
-}
-
-template <typename E>
-std::string
-signatureOf ()
-{
-  if constexpr (Has<E, SignatureOp>::value)
-    return E::kSignature;
-  else
-    return "";
 }
 
 template <typename E>
@@ -351,10 +329,10 @@ public:
   }
 
   std::string
-  physics () const override { return detail::physicsOf<Effect> (); }
+  physics () const override { return Effect::kText.physics; }
 
   std::string
-  signature () const override { return detail::signatureOf<Effect> (); }
+  signature () const override { return Effect::kText.signature; }
 
   /** \brief The settings as the effect's struct. */
   const Settings &
@@ -513,9 +491,9 @@ EffectRegistry::add ()
 {
   Entry e;
   e.info.name = Effect::kName;
-  e.info.summary = Effect::kSummary;
-  e.info.physics = detail::physicsOf<Effect> ();
-  e.info.signature = detail::signatureOf<Effect> ();
+  e.info.summary = Effect::kText.summary;
+  e.info.physics = Effect::kText.physics;
+  e.info.signature = Effect::kText.signature;
   if constexpr (detail::isSimulated<Effect> ())
   {
     const typename Effect::SimParameters defaults{};

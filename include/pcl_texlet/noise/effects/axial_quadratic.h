@@ -24,10 +24,9 @@ namespace effects
 struct AxialQuadratic
 {
   static constexpr const char *kName = "axial_quadratic";
-  static constexpr const char *kSummary = "triangulation noise: constant disparity SD, depth SD ~ z^2";
-  static constexpr const char *kPhysics = "triangulation: the correlation peak is found to a constant fraction of a "
-                                          "pixel, so the depth SD grows with z^2 / (f b)";
-  static constexpr const char *kSignature = "depth";
+  static constexpr EffectText kText = {"depth",
+                                       "triangulation noise: constant disparity SD, depth SD ~ z^2",
+                                       "triangulation: the correlation peak is found to a constant fraction of a pixel, so the depth SD grows with z^2 / (f b)"};
 
   // --- the simulator -------------------------------------------------------------------------
 

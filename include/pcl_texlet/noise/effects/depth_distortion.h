@@ -30,10 +30,9 @@ namespace effects
 struct DepthDistortion
 {
   static constexpr const char *kName = "depth_distortion";
-  static constexpr const char *kSummary = "static disparity bias map: depth bias grows with z^2";
-  static constexpr const char *kPhysics = "residual lens distortion and an imperfect reference pattern leave a fixed "
-                                          "disparity error per pixel, a static depth bias growing with z^2";
-  static constexpr const char *kSignature = "position (bias map)";
+  static constexpr EffectText kText = {"position (bias map)",
+                                       "static disparity bias map: depth bias grows with z^2",
+                                       "residual lens distortion and an imperfect reference pattern leave a fixed disparity error per pixel, a static depth bias growing with z^2"};
 
   // --- the simulator -------------------------------------------------------------------------
 

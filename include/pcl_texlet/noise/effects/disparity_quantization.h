@@ -24,11 +24,9 @@ namespace effects
 struct DisparityQuantization
 {
   static constexpr const char *kName = "disparity_quantization";
-  static constexpr const char *kSummary = "disparity in sub-pixel steps: depth steps of z^2 step / (f b)";
-  static constexpr const char *kPhysics = "the sensor reports disparity in sub-pixel steps (1/8 px on the Kinect v1): "
-                                          "depth comes in steps of z^2 step / (f b), so SD and mean swing with the "
-                                          "true disparity's sub-step phase";
-  static constexpr const char *kSignature = "phase";
+  static constexpr EffectText kText = {"phase",
+                                       "disparity in sub-pixel steps: depth steps of z^2 step / (f b)",
+                                       "the sensor reports disparity in sub-pixel steps (1/8 px on the Kinect v1): depth comes in steps of z^2 step / (f b), so SD and mean swing with the true disparity's sub-step phase"};
 
   // --- the simulator -------------------------------------------------------------------------
 

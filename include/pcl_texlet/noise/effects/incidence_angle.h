@@ -23,10 +23,9 @@ namespace effects
 struct IncidenceAngle
 {
   static constexpr const char *kName = "incidence_angle";
-  static constexpr const char *kSummary = "noise grows toward grazing angles: SD x (1 + gain (1/cos - 1))";
-  static constexpr const char *kPhysics = "on an oblique surface the dot pattern is stretched by 1 / cos(theta) "
-                                          "across the correlation window, blurring the correlation peak";
-  static constexpr const char *kSignature = "incidence";
+  static constexpr EffectText kText = {"incidence",
+                                       "noise grows toward grazing angles: SD x (1 + gain (1/cos - 1))",
+                                       "on an oblique surface the dot pattern is stretched by 1 / cos(theta) across the correlation window, blurring the correlation peak"};
 
   // --- the simulator -------------------------------------------------------------------------
 

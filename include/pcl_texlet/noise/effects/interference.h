@@ -28,10 +28,9 @@ namespace effects
 struct Interference
 {
   static constexpr const char *kName = "interference";
-  static constexpr const char *kSummary = "other active projectors add noise and holes where they overlap";
-  static constexpr const char *kPhysics = "other sensors' projected dots overlay the sensor's own pattern and confuse "
-                                          "the correlation: more noise (and holes) with every other active projector";
-  static constexpr const char *kSignature = "projectors";
+  static constexpr EffectText kText = {"projectors",
+                                       "other active projectors add noise and holes where they overlap",
+                                       "other sensors' projected dots overlay the sensor's own pattern and confuse the correlation: more noise (and holes) with every other active projector"};
 
   // --- the simulator -------------------------------------------------------------------------
 

@@ -24,9 +24,9 @@ namespace effects
 struct Intrinsics
 {
   static constexpr const char *kName = "intrinsics";
-  static constexpr const char *kSummary = "camera.yaml labelled with other intrinsics than rendered";
-  static constexpr const char *kPhysics = "the recording's intrinsics are not the ones its frames were taken with";
-  static constexpr const char *kSignature = "lateral scale";
+  static constexpr EffectText kText = {"lateral scale",
+                                       "camera.yaml labelled with other intrinsics than rendered",
+                                       "the recording's intrinsics are not the ones its frames were taken with"};
 
   struct SimParameters
   {

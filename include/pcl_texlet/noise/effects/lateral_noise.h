@@ -25,10 +25,9 @@ namespace effects
 struct LateralNoise
 {
   static constexpr const char *kName = "lateral_noise";
-  static constexpr const char *kSummary = "depth edges jitter across discontinuities";
-  static constexpr const char *kPhysics = "the correlation window straddling a depth edge matches either side, so "
-                                          "readings near edges jump between the two surfaces";
-  static constexpr const char *kSignature = "edge distance";
+  static constexpr EffectText kText = {"edge distance",
+                                       "depth edges jitter across discontinuities",
+                                       "the correlation window straddling a depth edge matches either side, so readings near edges jump between the two surfaces"};
 
   // --- the simulator -------------------------------------------------------------------------
 

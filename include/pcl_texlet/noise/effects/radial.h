@@ -23,10 +23,9 @@ namespace effects
 struct Radial
 {
   static constexpr const char *kName = "radial";
-  static constexpr const char *kSummary = "noise grows away from the optical centre: SD x (1 + gain (r/r_ref)^2)";
-  static constexpr const char *kPhysics = "vignetting and the projector's fall-off dim the dot pattern toward the "
-                                          "border, where it localises worse";
-  static constexpr const char *kSignature = "radius";
+  static constexpr EffectText kText = {"radius",
+                                       "noise grows away from the optical centre: SD x (1 + gain (r/r_ref)^2)",
+                                       "vignetting and the projector's fall-off dim the dot pattern toward the border, where it localises worse"};
 
   // --- the simulator -------------------------------------------------------------------------
 

@@ -23,10 +23,9 @@ namespace effects
 struct TemporalDrift
 {
   static constexpr const char *kName = "temporal_drift";
-  static constexpr const char *kSummary = "warm-up: disparity offset decaying over the first frames";
-  static constexpr const char *kPhysics = "while the sensor warms up the projector and housing expand and the laser's "
-                                          "wavelength shifts: a disparity offset that decays over the first frames";
-  static constexpr const char *kSignature = "frame";
+  static constexpr EffectText kText = {"frame",
+                                       "warm-up: disparity offset decaying over the first frames",
+                                       "while the sensor warms up the projector and housing expand and the laser's wavelength shifts: a disparity offset that decays over the first frames"};
 
   // --- the simulator -------------------------------------------------------------------------
 

@@ -26,11 +26,9 @@ namespace effects
 struct VerticalStripes
 {
   static constexpr const char *kName = "vertical_stripes";
-  static constexpr const char *kSummary = "column bands with disparity offsets that change over time";
-  static constexpr const char *kPhysics = "the image is cut into column bands whose disparity offsets change over "
-                                          "time (the paper's Fig. 4), so pixels of one column share an offset in "
-                                          "each frame";
-  static constexpr const char *kSignature = "column";
+  static constexpr EffectText kText = {"column",
+                                       "column bands with disparity offsets that change over time",
+                                       "the image is cut into column bands whose disparity offsets change over time (the paper's Fig. 4), so pixels of one column share an offset in each frame"};
 
   // --- the simulator -------------------------------------------------------------------------
 
