@@ -27,7 +27,6 @@ namespace fs = std::filesystem;
 namespace
 {
 
-using Result = pcl_texlet_test::AppResult;
 using pcl_texlet_test::slurp;
 
 class ExtractApp : public pcl_texlet_test::AppTest

@@ -25,7 +25,6 @@ using nlohmann::json;
 namespace
 {
 
-using Result = pcl_texlet_test::AppResult;
 using pcl_texlet_test::slurp;
 
 bool

@@ -94,6 +94,25 @@ TEST (TexletPointType, FieldsAreRegistered)
   EXPECT_TRUE (pcl::traits::has_color_v<pcl::Texlet>);
 }
 
+TEST (TexletPointType, CovarianceSettersAreTheGettersInverse)
+{
+  pcl::Texlet t;
+  Eigen::Matrix3f cp;
+  cp << 4e-6f, 1e-6f, -5e-7f, 1e-6f, 3e-6f, 2e-7f, -5e-7f, 2e-7f, 9e-6f;
+  t.setCovarianceP (cp);
+  EXPECT_EQ (t.covarianceP (), cp);
+  EXPECT_EQ (t.cov_p_xz, -5e-7f);
+  EXPECT_EQ (t.cov_p_yz, 2e-7f);
+
+  Eigen::Matrix2f cn;
+  cn << 4e-4f, 1.0e-4f, 2.0e-4f, 1e-4f; // an asymmetric product: the off-diagonal's mean is kept
+  t.setCovarianceN (cn);
+  EXPECT_EQ (t.cov_n_11, 4e-4f);
+  EXPECT_FLOAT_EQ (t.cov_n_12, 1.5e-4f);
+  EXPECT_EQ (t.cov_n_22, 1e-4f);
+  EXPECT_EQ (t.covarianceN () (0, 1), t.covarianceN () (1, 0));
+}
+
 TEST (TexletPointType, BinaryPcdRoundTripIsExact)
 {
   TempDir dir;

@@ -6,6 +6,7 @@
  */
 #include "support/expect_error.h"
 #include "support/image_patterns.h"
+#include "support/recording_folder.h"
 #include "support/temp_dir.h"
 
 #include <pcl_texlet/io/grabber_intrinsics.h>
@@ -65,17 +66,7 @@ using pcl_texlet_test::depthPattern;
 using pcl_texlet_test::expectError;
 using pcl_texlet_test::rgbPattern;
 
-CameraInfo
-camera33x17 ()
-{
-  CameraInfo info;
-  info.width = 33;
-  info.height = 17;
-  const double K[9] = {570.25, 0, 16.1, 0, 569.75, 8.3, 0, 0, 1};
-  std::copy (K, K + 9, info.K);
-  info.D = {0.1, -0.25, 0.001, -0.002, 0.125};
-  return info;
-}
+using pcl_texlet_test::camera33x17;
 
 /** \brief Writes a TIFF with libtiff from samples already in the requested layout; \a mode "w"
   * writes the host's byte order, "wb" big-endian.

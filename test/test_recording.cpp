@@ -4,6 +4,7 @@
  */
 #include "support/expect_error.h"
 #include "support/image_patterns.h"
+#include "support/recording_folder.h"
 #include "support/temp_dir.h"
 
 #include <pcl_texlet/io/camera_yaml.h>
@@ -104,19 +105,7 @@ writeText (const std::string &path, const std::string &text)
   std::ofstream (path, std::ios::binary) << text;
 }
 
-CameraInfo
-camera33x17 ()
-{
-  CameraInfo info;
-  info.width = 33;
-  info.height = 17;
-  const double K[9] = {570.3422241210938, 0, 16.1, 0, 570.3422241210938, 8.3, 0, 0, 1};
-  std::copy (K, K + 9, info.K);
-  info.D = {0.1, -0.25, 0.001, -0.002, 1.0 / 3.0};
-  info.baseline_m = 0.0752;
-  info.disparity_subpixel = 0.0625;
-  return info;
-}
+using pcl_texlet_test::camera33x17;
 
 /** \brief A recording folder: camera.yaml, and depth/ (and rgb/) frames named by \a names. */
 void

@@ -376,12 +376,7 @@ TEST (TexletMerge, RigidMotionMovesCentreNormalAndCovariances)
   pcl::Texlet t = makeTexlet (Eigen::Vector3d (0.1, -0.2, 1.1), Eigen::Vector3d (0.2, -0.1, -1.0));
   Eigen::Matrix3f cp;
   cp << 4e-6f, 1e-6f, -5e-7f, 1e-6f, 3e-6f, 2e-7f, -5e-7f, 2e-7f, 9e-6f;
-  t.cov_p_xx = cp (0, 0);
-  t.cov_p_xy = cp (0, 1);
-  t.cov_p_xz = cp (0, 2);
-  t.cov_p_yy = cp (1, 1);
-  t.cov_p_yz = cp (1, 2);
-  t.cov_p_zz = cp (2, 2);
+  t.setCovarianceP (cp);
   t.cov_n_11 = 4e-4f;
   t.cov_n_12 = 1.5e-4f;
   t.cov_n_22 = 1e-4f;

@@ -26,7 +26,6 @@ namespace fs = std::filesystem;
 namespace
 {
 
-using Result = pcl_texlet_test::AppResult;
 using pcl_texlet_test::slurp;
 
 class SimApp : public pcl_texlet_test::AppTest

@@ -434,6 +434,20 @@ TEST (TexletEstimation, BadInputGetsAClearError)
   EXPECT_THROW (est.setViewPoint (0, std::nanf (""), 0), pcl::BadArgumentException);
   EXPECT_THROW (pcl::texlet::PinholeModel (0, 500, 320, 240), pcl::BadArgumentException);
   EXPECT_THROW (pcl::texlet::planeFitMethodFromString ("ransac"), pcl::BadArgumentException);
+  for (auto m : {pcl::texlet::UncertaintyMethod::None, pcl::texlet::UncertaintyMethod::Analytic,
+                 pcl::texlet::UncertaintyMethod::MonteCarlo})
+    EXPECT_EQ (pcl::texlet::uncertaintyMethodFromString (pcl::texlet::toString (m)), m);
+  try
+  {
+    pcl::texlet::uncertaintyMethodFromString ("mc");
+    ADD_FAILURE () << "'mc' accepted";
+  }
+  catch (const pcl::BadArgumentException &e)
+  {
+    EXPECT_NE (std::string (e.what ()).find ("unknown uncertainty method 'mc' (use none, analytic or montecarlo)"),
+               std::string::npos)
+        << e.what ();
+  }
 
   // All depth invalid.
   pcl::PointCloud<pcl::PointXYZ>::Ptr empty (new pcl::PointCloud<pcl::PointXYZ> (64, 48));

@@ -2,6 +2,8 @@
 
 #include <pcl/exceptions.h>
 
+#include <initializer_list>
+
 namespace pcl
 {
 namespace texlet
@@ -39,22 +41,43 @@ toString (UncertaintyMethod m)
   return "unknown";
 }
 
+namespace
+{
+
+/** The method called \a name, or an error listing the names (as "use a, b or c"). */
+template <typename Method>
+Method
+methodFromString (const std::string &name, std::initializer_list<Method> methods, const char *what)
+{
+  for (Method m : methods)
+    if (toString (m) == name)
+      return m;
+  std::string names;
+  std::size_t k = 0;
+  for (Method m : methods)
+  {
+    if (k > 0)
+      names += k + 1 == methods.size () ? " or " : ", ";
+    names += toString (m);
+    ++k;
+  }
+  throw pcl::BadArgumentException ("unknown " + std::string (what) + " '" + name + "' (use " + names + ")");
+}
+
+} // namespace
+
 PlaneFitMethod
 planeFitMethodFromString (const std::string &name)
 {
-  for (PlaneFitMethod m : {PlaneFitMethod::PCA, PlaneFitMethod::SVD, PlaneFitMethod::Averaging})
-    if (toString (m) == name)
-      return m;
-  throw pcl::BadArgumentException ("unknown plane fit method '" + name + "' (use pca, svd or averaging)");
+  return methodFromString (name, {PlaneFitMethod::PCA, PlaneFitMethod::SVD, PlaneFitMethod::Averaging},
+                           "plane fit method");
 }
 
 UncertaintyMethod
 uncertaintyMethodFromString (const std::string &name)
 {
-  for (UncertaintyMethod m : {UncertaintyMethod::None, UncertaintyMethod::Analytic, UncertaintyMethod::MonteCarlo})
-    if (toString (m) == name)
-      return m;
-  throw pcl::BadArgumentException ("unknown uncertainty method '" + name + "' (use none, analytic or montecarlo)");
+  return methodFromString (name, {UncertaintyMethod::None, UncertaintyMethod::Analytic, UncertaintyMethod::MonteCarlo},
+                           "uncertainty method");
 }
 
 } // namespace texlet

@@ -26,22 +26,13 @@ transformTexlet (const pcl::Texlet &in, const Eigen::Isometry3d &pose, pcl::Texl
   out.getVector3fMap () = p;
   out.getNormalVector3fMap () = n;
 
-  const Eigen::Matrix3f cp = r * in.covarianceP () * r.transpose ();
-  out.cov_p_xx = cp (0, 0);
-  out.cov_p_xy = cp (0, 1);
-  out.cov_p_xz = cp (0, 2);
-  out.cov_p_yy = cp (1, 1);
-  out.cov_p_yz = cp (1, 2);
-  out.cov_p_zz = cp (2, 2);
+  out.setCovarianceP (r * in.covarianceP () * r.transpose ());
 
   // The tangent frame is a function of N alone, so the rotated old frame is not the new one:
   // express the rotated deviations in the new frame.
   const Eigen::Matrix<float, 3, 2> t_old = in.tangentFrame (), t_new = out.tangentFrame ();
   const Eigen::Matrix2f m = t_new.transpose () * r * t_old;
-  const Eigen::Matrix2f cn = m * in.covarianceN () * m.transpose ();
-  out.cov_n_11 = cn (0, 0);
-  out.cov_n_12 = 0.5f * (cn (0, 1) + cn (1, 0));
-  out.cov_n_22 = cn (1, 1);
+  out.setCovarianceN (m * in.covarianceN () * m.transpose ());
 }
 
 void

@@ -21,6 +21,8 @@ namespace pcl_texlet_test
 class AppTest : public TempDirTest
 {
 protected:
+  using Result = AppResult;
+
   explicit AppTest (std::string app) : app_ (std::move (app)) {}
 
   /** \brief Runs the app with \a args (shell words). */

@@ -8,6 +8,7 @@
 #include <pcl_texlet/camera/depth_frame.h>
 #include <pcl_texlet/io/recording_writer.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -27,6 +28,23 @@ centredCamera (int width, int height, double f)
   info.height = height;
   const double K[9] = {f, 0, (width - 1) / 2.0, 0, f, (height - 1) / 2.0, 0, 0, 1};
   std::copy (K, K + 9, info.K);
+  return info;
+}
+
+/** \brief A small, odd-sized camera (33 x 17) whose every camera.yaml field is set, with values
+  * that are not round in decimal: for round trips of the camera and of recording folders.
+  */
+inline pcl::texlet::CameraInfo
+camera33x17 ()
+{
+  pcl::texlet::CameraInfo info;
+  info.width = 33;
+  info.height = 17;
+  const double K[9] = {570.3422241210938, 0, 16.1, 0, 570.3422241210938, 8.3, 0, 0, 1};
+  std::copy (K, K + 9, info.K);
+  info.D = {0.1, -0.25, 0.001, -0.002, 1.0 / 3.0};
+  info.baseline_m = 0.0752;
+  info.disparity_subpixel = 0.0625;
   return info;
 }
 

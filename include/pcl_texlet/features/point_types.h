@@ -74,6 +74,18 @@ struct Texlet : public _Texlet
     return c;
   }
 
+  /** \brief Sets Sigma_P from a symmetric matrix (m^2); its upper triangle is kept. */
+  inline void
+  setCovarianceP (const Eigen::Matrix3f &c)
+  {
+    cov_p_xx = c (0, 0);
+    cov_p_xy = c (0, 1);
+    cov_p_xz = c (0, 2);
+    cov_p_yy = c (1, 1);
+    cov_p_yz = c (1, 2);
+    cov_p_zz = c (2, 2);
+  }
+
   /** \brief Sigma_N as a matrix (rad^2) in the frame of tangentFrame(). */
   inline Eigen::Matrix2f
   covarianceN () const
@@ -81,6 +93,17 @@ struct Texlet : public _Texlet
     Eigen::Matrix2f c;
     c << cov_n_11, cov_n_12, cov_n_12, cov_n_22;
     return c;
+  }
+
+  /** \brief Sets Sigma_N (rad^2, in the frame of tangentFrame()); the off-diagonal is the mean
+    * of the two, so a product that rounds asymmetrically stays a covariance.
+    */
+  inline void
+  setCovarianceN (const Eigen::Matrix2f &c)
+  {
+    cov_n_11 = c (0, 0);
+    cov_n_12 = 0.5f * (c (0, 1) + c (1, 0));
+    cov_n_22 = c (1, 1);
   }
 
   /** \brief The tangents (t1, t2) in which Sigma_N is expressed, as the columns of a 3x2 matrix. */
