@@ -68,6 +68,20 @@ using pcl_texlet_test::rgbPattern;
 
 using pcl_texlet_test::camera33x17;
 
+/** \brief The bundled Kinect recordings' camera: VGA, f = 525 px (to \a f_tolerance), the given
+  * principal point.
+  */
+void
+expectKinectVgaCamera (const CameraInfo &info, double f_tolerance, double cx, double cy)
+{
+  EXPECT_EQ (info.width, 640);
+  EXPECT_EQ (info.height, 480);
+  EXPECT_NEAR (info.fx (), 525.0, f_tolerance);
+  EXPECT_NEAR (info.fy (), 525.0, f_tolerance);
+  EXPECT_EQ (info.cx (), cx);
+  EXPECT_EQ (info.cy (), cy);
+}
+
 /** \brief Writes a TIFF with libtiff from samples already in the requested layout; \a mode "w"
   * writes the host's byte order, "wb" big-endian.
   */
@@ -356,13 +370,7 @@ TEST_F (ReadersTest, TiffDepthOfRealFrameAgreesWithGrabberPcd)
 {
   GrabberTiffReader reader (kGrabberSequence.string ());
   ASSERT_EQ (reader.size (), 3u);
-  const CameraInfo &info = reader.cameraInfo ();
-  EXPECT_EQ (info.width, 640);
-  EXPECT_EQ (info.height, 480);
-  EXPECT_EQ (info.fx (), 525.0);
-  EXPECT_EQ (info.fy (), 525.0);
-  EXPECT_EQ (info.cx (), 320.0);
-  EXPECT_EQ (info.cy (), 240.0);
+  expectKinectVgaCamera (reader.cameraInfo (), 0.0, 320.0, 240.0);
 
   const std::vector<DepthFrame> frames = readAll (reader);
   ASSERT_EQ (frames.size (), 3u);
@@ -551,13 +559,8 @@ TEST_F (ReadersTest, OniPlaysEveryFrameOfTheRecording)
   // with tools/oni_from_tiffs: playback must give them back unchanged, in order, and then end.
   OniReader reader (kOniFile.string ());
   ASSERT_EQ (reader.size (), 3u);
-  const CameraInfo &info = reader.cameraInfo ();
-  EXPECT_EQ (info.width, 640);
-  EXPECT_EQ (info.height, 480);
-  EXPECT_NEAR (info.fx (), 525.0, 1e-3); // from the recorded field of view
-  EXPECT_NEAR (info.fy (), 525.0, 1e-3);
-  EXPECT_EQ (info.cx (), 319.5); // image centre, as the grabber assumes
-  EXPECT_EQ (info.cy (), 239.5);
+  // f from the recorded field of view; the principal point at the image centre, as the grabber assumes.
+  expectKinectVgaCamera (reader.cameraInfo (), 1e-3, 319.5, 239.5);
 
   GrabberTiffReader tiffs (kGrabberSequence.string ());
   const std::vector<DepthFrame> expected = readAll (tiffs);

@@ -49,6 +49,22 @@ bigEndianBytes (const std::vector<std::uint16_t> &samples)
   return bytes;
 }
 
+/** \brief Writes a 33 x 17 \a image as \a name in the test's folder with \a write and expects
+  * that file alone there (no temporary left) and \a read to give every value back.
+  */
+template <typename Sample, typename Write, typename Read> void
+expectPngRoundTrip (const pcl_texlet_test::TempDir &folder, const std::string &name, const std::vector<Sample> &image,
+                    Write write, Read read)
+{
+  const std::string path = (folder.path () / name).string ();
+  write (path, image.data (), 33, 17);
+  EXPECT_EQ (folder.entries (), std::vector<std::string>{name}) << "no temporary file left";
+  int width = 0, height = 0;
+  EXPECT_EQ (read (path, width, height), image);
+  EXPECT_EQ (width, 33);
+  EXPECT_EQ (height, 17);
+}
+
 /** \brief Writes any PNG with libpng directly, from rows of bytes already in PNG order, so that the
   * reader is checked against files it did not write itself. Only trivially destructible locals
   * live here because libpng's default error handler longjmps to the setjmp below.
@@ -136,20 +152,9 @@ makeRecording (const fs::path &folder, const CameraInfo &info, std::initializer_
 
 TEST_F (RecordingTest, DepthPngRoundTripKeepsEveryValueAndLeavesNoTemporaryFile)
 {
-  const std::vector<std::uint16_t> depth = depthPattern (33, 17, 1);
-  writeDepthPng (file ("depth.png"), depth.data (), 33, 17);
-  EXPECT_EQ (temp_.entries (), std::vector<std::string>{"depth.png"}); // no temporary file left
-
-  int width = 0, height = 0;
-  EXPECT_EQ (readDepthPng (file ("depth.png"), width, height), depth);
-  EXPECT_EQ (width, 33);
-  EXPECT_EQ (height, 17);
-
+  expectPngRoundTrip (temp_, "depth.png", depthPattern (33, 17, 1), writeDepthPng, readDepthPng);
   // Writing over an existing frame replaces it whole.
-  const std::vector<std::uint16_t> other = depthPattern (33, 17, 2);
-  writeDepthPng (file ("depth.png"), other.data (), 33, 17);
-  EXPECT_EQ (readDepthPng (file ("depth.png"), width, height), other);
-  EXPECT_EQ (temp_.entries (), std::vector<std::string>{"depth.png"}); // no temporary file left
+  expectPngRoundTrip (temp_, "depth.png", depthPattern (33, 17, 2), writeDepthPng, readDepthPng);
 }
 
 TEST_F (RecordingTest, DepthPngReadsBigEndianSamplesWrittenByLibpng)
@@ -187,12 +192,8 @@ TEST_F (RecordingTest, RgbPngReadsRgbAndDropsAlpha)
 TEST_F (RecordingTest, RgbPngRoundTripKeepsEveryValueAndLeavesNoTemporaryFile)
 {
   const std::vector<std::uint8_t> rgb = rgbPattern (33, 17, 5);
-  writeRgbPng (file ("rgb.png"), rgb.data (), 33, 17);
-  EXPECT_EQ (temp_.entries (), std::vector<std::string>{"rgb.png"}); // no temporary file left
+  expectPngRoundTrip (temp_, "rgb.png", rgb, writeRgbPng, readRgbPng);
   int width = 0, height = 0;
-  EXPECT_EQ (readRgbPng (file ("rgb.png"), width, height), rgb);
-  EXPECT_EQ (width, 33);
-  EXPECT_EQ (height, 17);
   // An RGB image is not a depth frame, whoever wrote it.
   expectError ([&] { readDepthPng (file ("rgb.png"), width, height); }, {file ("rgb.png"), "found 8-bit RGB"});
   expectError ([&] { writeRgbPng (file ("no/such/folder/rgb.png"), rgb.data (), 33, 17); },
