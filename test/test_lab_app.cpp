@@ -115,7 +115,13 @@ TEST_F (LabApp, SessionWritesTheReportAndAModelTheExtractorLoads)
   std::set<std::string> keys;
   for (const auto &kv : j.items ())
     keys.insert (kv.key ());
-  EXPECT_EQ (keys, (std::set<std::string>{"model", "metrics", "candidates", "steps", "skipped_frames", "notes"}));
+  EXPECT_EQ (keys, (std::set<std::string>{"model", "metrics", "candidates", "steps", "skipped_frames", "notes",
+                                          "disparity_lattice"}));
+  // The simulator quantises on camera.yaml's lattice, or (without quantisation) there is none.
+  const auto &lattice = j["disparity_lattice"];
+  EXPECT_GT (lattice["camera_constant_mm"].get<double> (), 0.0);
+  if (lattice["found"].get<bool> ())
+    EXPECT_NEAR (lattice["ratio_to_camera"].get<double> (), 1.0, 0.01);
   EXPECT_EQ (j["skipped_frames"], 0);
   for (const char *m : {"sd_rmse_mm", "bias_rmse_mm", "nll"})
     EXPECT_TRUE (j["metrics"][m].is_number ()) << m;

@@ -172,6 +172,7 @@ run (int argc, char **argv)
     for (const auto &st : session.steps)
       std::cout << "+ " << st.added << ": sd_rmse " << st.metrics.sd_rmse_mm << " mm, bias_rmse "
                 << st.metrics.bias_rmse_mm << " mm, nll " << st.metrics.nll << texletText (st.metrics) << "\n";
+    std::cout << lab::latticeSummary (session.lattice) << "\n";
     std::cout << "skipped frames: " << skipped << "\n";
     std::cout << "report: " << report << "/report.html (" << std::fixed << std::setprecision (1) << elapsed ()
               << " s)" << std::endl;

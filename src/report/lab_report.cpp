@@ -245,6 +245,8 @@ runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &
   LabSession s;
   s.start_name = start_name;
   s.start = start;
+  say (lab, "lab: the disparity lattice of the depth values");
+  s.lattice = fitDisparityLattice (lab.recordings ());
   say (lab, "lab: comparing the model '" + start_name + "' with the recordings");
   s.start_metrics = lab.evaluate (start);
   say (lab, "lab: texlet NEES of P and N across frames under '" + start_name + "'");
@@ -324,6 +326,11 @@ labReportJson (const LabSession &s)
   j["steps"] = steps;
   j["skipped_frames"] = s.skipped_frames;
   j["notes"] = s.notes;
+  const DisparityLattice &l = s.lattice;
+  j["disparity_lattice"] = {{"found", l.found}, {"constant_mm", l.constant_mm},
+                            {"camera_constant_mm", l.camera_constant_mm},
+                            {"ratio_to_camera", l.constant_mm / l.camera_constant_mm}, {"phase", l.phase},
+                            {"coherence", l.coherence}, {"residual_ratio", l.residual_ratio}, {"values", l.values}};
   return j.dump (2) + "\n";
 }
 
@@ -586,7 +593,8 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     h << "<tr><td>" << escape (r->name) << "</td><td>" << r->frames << "</td><td>" << r->width << "x" << r->height
       << "</td><td>" << escape (r->scene) << "</td><td>" << r->active_projectors << "</td><td>" << r->usedCount ()
       << "</td><td>" << r->left_out << "</td><td>" << r->no_surface << "</td></tr>\n";
-  h << "</table>\n<h2>1-2. The model against the measurements</h2>\n<p>Starting model: <b>" << escape (s.start_name)
+  h << "</table>\n<p>" << escape (latticeSummary (s.lattice)) << "</p>\n";
+  h << "<h2>1-2. The model against the measurements</h2>\n<p>Starting model: <b>" << escape (s.start_name)
     << "</b>. Metrics over all frames (NLL: Gaussian negative log-likelihood per depth sample, in nats, with the "
        "frame and column offsets as separate parts; calibration: share of samples within 1 and 2 predicted SDs of "
        "the predicted mean, 68.3 % and 95.4 % when calibrated).</p>\n<p>Texlet NEES: texlets extracted with the "

@@ -5,6 +5,7 @@
  */
 #pragma once
 
+#include <pcl_texlet/lab/disparity_lattice.h>
 #include <pcl_texlet/lab/model_lab.h>
 
 #include <string>
@@ -37,6 +38,7 @@ struct LabSession
   NoiseModel final_model;               ///< the last step's model, or the start refitted
   std::vector<std::string> notes;       ///< what the lab could not do, and why
   std::size_t skipped_frames = 0;       ///< frames the caller could not read and skipped (report.json)
+  DisparityLattice lattice;             ///< the depth values' disparity lattice, beside camera.yaml's
 };
 
 /** \brief Runs a session: rank the candidates of \a start, add \a add in order, then up to
@@ -47,7 +49,9 @@ LabSession
 runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &start_name,
                const std::vector<std::string> &add, int auto_count);
 
-/** \brief report.json text (keys: model, metrics, candidates, steps). */
+/** \brief report.json text (keys: model, metrics, candidates, steps, skipped_frames, notes,
+  * disparity_lattice).
+  */
 std::string
 labReportJson (const LabSession &session);
 
