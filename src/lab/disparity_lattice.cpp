@@ -98,10 +98,18 @@ refinePeak (const std::vector<WeightedValue> &values, double c, double half_widt
   return 0.5 * (a + b);
 }
 
-} // namespace
+/** Marks the nonzero depths of \a depth_mm in \a seen (65536 flags, one per millimetre value). */
+void
+markDepths (const std::vector<std::uint16_t> &depth_mm, std::vector<bool> &seen)
+{
+  for (const std::uint16_t z : depth_mm)
+    if (z > 0)
+      seen[z] = true;
+}
 
+/** fitDisparityLattice() of the distinct depth values flagged in \a seen. */
 DisparityLattice
-fitDisparityLattice (const std::vector<std::uint16_t> &depth_mm, double camera_constant_mm)
+fitDistinctDepths (const std::vector<bool> &seen, double camera_constant_mm)
 {
   if (!(camera_constant_mm > 0.0) || !std::isfinite (camera_constant_mm))
     throw pcl::BadArgumentException ("fitDisparityLattice: the camera's lattice constant 1000 f b / step must be "
@@ -109,10 +117,6 @@ fitDisparityLattice (const std::vector<std::uint16_t> &depth_mm, double camera_c
   DisparityLattice out;
   out.camera_constant_mm = camera_constant_mm;
 
-  std::vector<bool> seen (65536, false);
-  for (const std::uint16_t z : depth_mm)
-    if (z > 0)
-      seen[z] = true;
   // Rounding to whole mm moves 1 / z by an SD of 1 / (sqrt (12) z^2); in lattice steps of
   // 1 / C that is a phase SD s, which leaves exp (-2 pi^2 s^2) of a value's coherence.
   std::vector<WeightedValue> values;
@@ -179,6 +183,16 @@ fitDisparityLattice (const std::vector<std::uint16_t> &depth_mm, double camera_c
   return out;
 }
 
+} // namespace
+
+DisparityLattice
+fitDisparityLattice (const std::vector<std::uint16_t> &depth_mm, double camera_constant_mm)
+{
+  std::vector<bool> seen (65536, false);
+  markDepths (depth_mm, seen);
+  return fitDistinctDepths (seen, camera_constant_mm);
+}
+
 DisparityLattice
 fitDisparityLattice (const std::vector<RecordingMeasurement::ConstPtr> &recordings)
 {
@@ -189,10 +203,10 @@ fitDisparityLattice (const std::vector<RecordingMeasurement::ConstPtr> &recordin
   if (!(first.fb () > 0.0))
     throw pcl::BadArgumentException ("fitDisparityLattice: " + first.name +
                                      ": camera.yaml gives no f b (baseline_m), so no lattice to search around");
-  std::vector<std::uint16_t> all;
+  std::vector<bool> seen (65536, false);
   for (const auto &r : recordings)
-    all.insert (all.end (), r->depth_mm.begin (), r->depth_mm.end ());
-  return fitDisparityLattice (all, 1000.0 * first.fb () / step);
+    markDepths (r->depth_mm, seen);
+  return fitDistinctDepths (seen, 1000.0 * first.fb () / step);
 }
 
 std::string

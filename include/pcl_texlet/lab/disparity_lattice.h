@@ -36,8 +36,9 @@ struct DisparityLattice
     */
   double residual_ratio = 0.0;
 
-  /** \brief Fewest coherence that counts as a lattice: values on one give 0.95 to 1 (their mm rounding
-    * allowed for); clusters of consecutive millimetres, as unquantised noise gives, reach 0.6.
+  /** \brief Fewest coherence that counts as a lattice: values on one give about 1 (their mm
+    * rounding allowed for). Clusters of consecutive millimetres, as unquantised noise gives, can
+    * pass it too, so a lattice also needs kMaxResidualRatio (docs/model_lab.md).
     */
   static constexpr double kMinCoherence = 0.8;
   /** \brief Largest residual_ratio of a lattice (NaN fails too: a lattice must show its steps). */
