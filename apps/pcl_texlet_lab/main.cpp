@@ -163,8 +163,9 @@ run (int argc, char **argv)
       const auto &c = session.candidates[k];
       std::cout << "  candidate " << k + 1 << ": " << c.effect;
       if (c.applicable)
-        std::cout << " gain " << c.gain << " (threshold " << c.threshold << ")"
-                  << (c.significant ? " significant" : "");
+        std::cout << " gain " << c.gain << " (threshold " << c.threshold << "), " << c.effect_shows_in << " error "
+                  << 100.0 * c.effect_size << " % lower where it shows"
+                  << (c.significant ? " significant" : (c.statistically_significant ? " (detectable, too small)" : ""));
       else
         std::cout << " not testable (" << c.note << ")";
       std::cout << "\n";

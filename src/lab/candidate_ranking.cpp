@@ -6,6 +6,7 @@
 #include <pcl_texlet/lab/model_lab.h>
 
 #include "bootstrap.h"
+#include "effect_size.h"
 #include "lab_data.h"
 #include "nll_fit.h"
 #include "static_fit.h"
@@ -165,6 +166,10 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     else if (fits[i].objective < fits[chosen.back ()].objective)
       chosen.back () = i;
   }
+  // Each candidate's practical effect is measured against the refitted current model's
+  // per-pixel predictions on the score half.
+  PixelErrors base_pixels;
+  evaluate (base, Half::score, &base_pixels);
   parallelFor (static_cast<int> (chosen.size ()), threads, true, [&] (int i) {
     const Fit &f = fits[chosen[i]];
     const DataSet &set = sets[f.set];
@@ -177,9 +182,18 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     Candidate &c = out[f.candidate];
     c.model = f.model;
     c.gain = gain;
-    c.metrics = evaluate (c.model, Half::score);
+    PixelErrors pixels;
+    c.metrics = evaluate (c.model, Half::score, &pixels);
+    const EffectSize size = effectSize (base_pixels, pixels);
+    const bool in_sd = size.sd_fall >= size.bias_fall;
+    c.effect_size = in_sd ? size.sd_fall : size.bias_fall;
+    c.effect_shows_in = in_sd ? "sd" : "bias";
+    c.effect_share = in_sd ? size.sd_share : size.bias_share;
+    c.error_before_mm = in_sd ? size.sd_before_mm : size.bias_before_mm;
+    c.error_after_mm = in_sd ? size.sd_after_mm : size.bias_after_mm;
 #pragma omp critical(lab_progress)
-    say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample");
+    say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample, " +
+         c.effect_shows_in + " error " + std::to_string (100.0 * c.effect_size) + " % lower where it shows");
   });
   for (std::size_t k = 0; k < out.size (); ++k)
   {
@@ -195,7 +209,8 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     c.null_sd = g.size () > 1 ? std::sqrt (var / (g.size () - 1)) : 0.0;
     c.threshold = mean + settings_.null_sigmas * c.null_sd;
     c.total_gain = c.gain * B.samples;
-    c.significant = c.gain > c.threshold && c.gain > 0 && c.total_gain >= settings_.min_total_gain_nats;
+    c.statistically_significant = c.gain > c.threshold && c.gain > 0 && c.total_gain >= settings_.min_total_gain_nats;
+    c.significant = c.statistically_significant && c.effect_size >= settings_.min_effect_size;
   }
   std::stable_sort (out.begin (), out.end (), [] (const Candidate &a, const Candidate &b) {
     if (a.applicable != b.applicable)

@@ -1,5 +1,6 @@
 #include <pcl_texlet/lab/model_lab.h>
 
+#include "effect_size.h"
 #include "lab_data.h"
 #include "likelihood.h"
 #include "nll_fit.h"
@@ -73,6 +74,12 @@ ModelLab::context (std::size_t r, std::size_t i) const
 LabMetrics
 ModelLab::evaluate (const NoiseModel &model, Half half) const
 {
+  return evaluate (model, half, nullptr);
+}
+
+LabMetrics
+ModelLab::evaluate (const NoiseModel &model, Half half, PixelErrors *pixels) const
+{
   const Data &d = data (half);
   const ModelView mv (model);
   StaticState s;
@@ -119,6 +126,11 @@ ModelLab::evaluate (const NoiseModel &model, Half half) const
       drift[r][t] -= s1 / k;
   }
   const int P = static_cast<int> (d.px.size ());
+  if (pixels)
+  {
+    for (auto *v : {&pixels->sd_pred, &pixels->sd_meas, &pixels->mean_pred, &pixels->mean_meas})
+      v->assign (P, 0.0f);
+  }
   double sd2 = 0, b2 = 0, lp = 0, in1 = 0, in2 = 0, count = 0;
 #pragma omp parallel for schedule(dynamic, 4096) reduction(+ : sd2, b2, lp, in1, in2, count) num_threads(settings_.threads > 0 ? settings_.threads : omp_get_max_threads ())
   for (int k = 0; k < P; ++k)
@@ -136,6 +148,11 @@ ModelLab::evaluate (const NoiseModel &model, Half half) const
     const double mu = 1000.0 * m.fb () / surface_disparity + mo.bias_mm;
     const double e = p.mean_mm - mu;
     b2 += e * e;
+    if (pixels)
+    {
+      pixels->sd_pred[k] = static_cast<float> (sd_pred), pixels->sd_meas[k] = static_cast<float> (sd_meas);
+      pixels->mean_pred[k] = static_cast<float> (mu), pixels->mean_meas[k] = p.mean_mm;
+    }
     const double V = var + col;
     lp += 0.5 * (p.n - 1) * std::log (kTwoPi * var) + p.ss_within / (2 * var);
     lp += 0.5 * std::log (kTwoPi * V / p.n) + p.n * e * e / (2 * V);

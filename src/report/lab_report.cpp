@@ -311,6 +311,9 @@ labReportJson (const LabSession &s)
     cj["null_mean"] = c.null_mean;
     cj["null_sd"] = c.null_sd;
     cj["total_gain_nats"] = c.total_gain;
+    cj["statistically_significant"] = c.statistically_significant;
+    cj["effect_size"] = {{"fall", c.effect_size}, {"shows_in", c.effect_shows_in}, {"pixel_share", c.effect_share},
+                         {"error_before_mm", c.error_before_mm}, {"error_after_mm", c.error_after_mm}};
     cj["applicable"] = c.applicable;
     cj["physics"] = c.physics;
     cj["signature"] = c.signature;
@@ -635,19 +638,26 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     << lab.settings ().null_replicates << " data sets drawn from the current model (no effect missing) by more than "
     << lab.settings ().null_sigmas << " of their SDs, and the gain summed over the held-out samples is at least "
     << lab.settings ().min_total_gain_nats << " nats (a likelihood ratio of at least e^"
-    << lab.settings ().min_total_gain_nats << " on data the fit did not see).</p>\n<table><tr><th>#</th><th>effect</th><th>gain (nats/sample)"
-    << "</th><th>threshold</th><th>significant</th><th>sd_rmse_mm</th><th>bias_rmse_mm</th><th>nll</th><th>shows in"
-    << "</th><th>physics</th></tr>\n";
+    << lab.settings ().min_total_gain_nats << " on data the fit did not see), and, so that it matters as well as "
+       "being detectable, the error where the effect shows (the pixels where adding it moves the predicted SD or "
+       "mean most) falls by at least "
+    << 100.0 * lab.settings ().min_effect_size
+    << " %.</p>\n<table><tr><th>#</th><th>effect</th><th>gain (nats/sample)"
+    << "</th><th>threshold</th><th>effect size (error where it shows)</th><th>significant</th><th>sd_rmse_mm</th>"
+    << "<th>bias_rmse_mm</th><th>nll</th><th>shows in</th><th>physics</th></tr>\n";
   for (std::size_t k = 0; k < s.candidates.size (); ++k)
   {
     const auto &c = s.candidates[k];
     h << "<tr><td>" << k + 1 << "</td><td>" << c.effect << "</td>";
     if (c.applicable)
-      h << "<td>" << fmt (c.gain) << "</td><td>" << fmt (c.threshold, 3) << "</td><td"
-        << (c.significant ? " class=\"sig\">yes" : ">no") << "</td><td>" << fmt (c.metrics.sd_rmse_mm) << "</td><td>"
+      h << "<td>" << fmt (c.gain) << "</td><td>" << fmt (c.threshold, 3) << "</td><td>" << fmt (100.0 * c.effect_size, 3)
+        << " % of the " << c.effect_shows_in << " error (" << fmt (c.error_before_mm, 3) << " to "
+        << fmt (c.error_after_mm, 3) << " mm over " << fmt (100.0 * c.effect_share, 2) << " % of pixels)</td><td"
+        << (c.significant ? " class=\"sig\">yes" : (c.statistically_significant ? ">no (too small)" : ">no"))
+        << "</td><td>" << fmt (c.metrics.sd_rmse_mm) << "</td><td>"
         << fmt (c.metrics.bias_rmse_mm) << "</td><td>" << fmt (c.metrics.nll) << "</td>";
     else
-      h << "<td colspan=\"6\">not testable: " << escape (c.note) << "</td>";
+      h << "<td colspan=\"7\">not testable: " << escape (c.note) << "</td>";
     h << "<td>" << escape (c.signature) << "</td><td>" << escape (c.physics) << "</td></tr>\n";
   }
   h << "</table>\n<h2>5. Add and refit: watch the error fall</h2>\n";

@@ -40,6 +40,11 @@ namespace texlet
 namespace lab
 {
 
+namespace detail
+{
+struct PixelErrors;
+} // namespace detail
+
 /** \brief Which samples a computation uses. */
 enum class Half
 {
@@ -76,7 +81,20 @@ struct Candidate
   double null_sd = 0;       ///< SD of those gains
   double threshold = 0;     ///< gain needed to be significant (also: gain * score samples >= LabSettings::min_total_gain_nats)
   double total_gain = 0;    ///< gain times the score half's samples: the held-out log-likelihood ratio, nats
-  bool significant = false; ///< gain > threshold
+  /** \brief The practical effect where its signature shows, on the score half: the fractional
+    * fall of the RMS error of the predicted SD, or of the bias (the larger), over the pixels
+    * where adding it moves that prediction by at least half its 95th-percentile move.
+    */
+  double effect_size = 0;
+  std::string effect_shows_in;  ///< "sd" or "bias": which error effect_size is of
+  double effect_share = 0;      ///< share of the score half's pixels where it shows
+  double error_before_mm = 0;   ///< the RMS error there under the current model refitted
+  double error_after_mm = 0;    ///< ... and with the candidate
+  bool statistically_significant = false; ///< gain > threshold and total_gain >= LabSettings::min_total_gain_nats
+  /** \brief statistically_significant and effect_size >= LabSettings::min_effect_size: detectable
+    * and large enough to matter.
+    */
+  bool significant = false;
   bool applicable = true;   ///< false when the data cannot show it (reason in note)
   std::string note;         ///< why not applicable, or remarks
   NoiseModel model;         ///< the model with it, fitted on the fit half
@@ -94,6 +112,12 @@ struct LabSettings
     * (docs/model_lab.md section 4).
     */
   double min_total_gain_nats = 3.0;
+  /** \brief Significance also needs the candidate's effect size (Candidate::effect_size) to reach
+    * this fraction: with millions of samples a gain of 1e-5 nats per sample is detectable, yet
+    * brings the error where the effect shows down by a fraction of a percent (docs/model_lab.md
+    * section 4).
+    */
+  double min_effect_size = 0.05;
   int outer_iterations = 3;      ///< alternations of the linear (bias) and Ceres (variance) fits
   int max_lbfgs_iterations = 60; ///< per Ceres run
   unsigned seed = 1;             ///< bootstrap seed
@@ -171,6 +195,12 @@ public:
 private:
   const Data &
   data (Half half) const;
+
+  /** \brief evaluate (), also giving each pixel's predicted and measured SD and mean when
+    * \a pixels is not null.
+    */
+  LabMetrics
+  evaluate (const NoiseModel &model, Half half, detail::PixelErrors *pixels) const;
 
   LabSettings settings_;
   std::vector<RecordingMeasurement::ConstPtr> recordings_;

@@ -1,0 +1,44 @@
+/*
+ * pcl_texlet model lab (internal): a candidate's practical effect, the fall of the per-pixel
+ * error where its signature shows. A gain of 1e-5 nats per sample can be statistically certain
+ * on millions of samples and still change nothing a user would see (docs/model_lab.md section 4).
+ */
+#pragma once
+
+#include <vector>
+
+namespace pcl
+{
+namespace texlet
+{
+namespace lab
+{
+namespace detail
+{
+
+/** Per-pixel predictions and measurements of one model on one half (ModelLab::evaluate). */
+struct PixelErrors
+{
+  std::vector<float> sd_pred, sd_meas;     ///< temporal SD, mm
+  std::vector<float> mean_pred, mean_meas; ///< mean depth (surface plus the model's bias), mm
+};
+
+/** The practical effect of replacing \a base's predictions by \a candidate's (same pixels). */
+struct EffectSize
+{
+  double sd_fall = 0, bias_fall = 0;     ///< 1 - rmse(candidate) / rmse(base) where each shows
+  double sd_share = 0, bias_share = 0;   ///< share of the pixels where each shows
+  double sd_before_mm = 0, sd_after_mm = 0, bias_before_mm = 0, bias_after_mm = 0;
+};
+
+/** Where a candidate shows: the pixels where it moves the prediction (SD, or the mean) by at
+  * least half the 95th percentile of its moves over all pixels; there, the fractional fall of the
+  * RMS error of the SD and of the bias. Zero where the candidate moves nothing.
+  */
+EffectSize
+effectSize (const PixelErrors &base, const PixelErrors &candidate);
+
+} // namespace detail
+} // namespace lab
+} // namespace texlet
+} // namespace pcl
