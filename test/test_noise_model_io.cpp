@@ -58,7 +58,7 @@ everyTerm ()
   grid.setParameters (offsets);
   m.add (grid);
   m.add (EffectTermOf<effects::Interference> ({0.8}));
-  m.add (EffectTermOf<effects::TemporalDrift> ({0.2, 8.0}));
+  m.add (EffectTermOf<effects::TemporalDrift> ({0.2, 8.0, 0.001}));
   m.add (EffectTermOf<effects::LateralNoise> ({2.0, 1.5}));
   m.add (EffectTermOf<effects::DisparityQuantization> ({0.125}));
   return m;
@@ -151,10 +151,14 @@ TEST (EffectTerms, DriftAndDistortionAreBiases)
   PixelContext c = at (100, 100, 1500);
   const double J = 1500.0 * 1500.0 / (1000.0 * c.fb_px_m);
   NoiseModel m;
-  m.add (EffectTermOf<effects::TemporalDrift> ({0.2, 10.0}));
+  m.add (EffectTermOf<effects::TemporalDrift> ({0.2, 10.0, 0.0}));
   EXPECT_EQ (m.biasMm (c), 0.0); // steady state when the frame is unknown
   c.frame = 10;
   EXPECT_NEAR (m.biasMm (c), -J * 0.2 * std::exp (-1.0), 1e-9);
+  // The scale form (a focal change): depth grows by scale z exp(-frame / tau), with the offset's.
+  NoiseModel scaled;
+  scaled.add (EffectTermOf<effects::TemporalDrift> ({0.2, 10.0, 0.003}));
+  EXPECT_NEAR (scaled.biasMm (c), -J * 0.2 * std::exp (-1.0) + 1500.0 * 0.003 * std::exp (-1.0), 1e-9);
   EffectTermOf<effects::DepthDistortion> grid ({}, {640, 480, 2, 2});
   grid.setParameters ({0.1, 0.1, 0.1, 0.1});
   EXPECT_NEAR (grid.bias (c), -J * 0.1, 1e-9);

@@ -19,6 +19,12 @@ namespace effects
   * offset that decays to zero: amplitude_px exp(-frame / time_constant_frames). At a steady
   * depth this is a trend in the frame means that settles after a few time constants. The term's
   * bias depends on the frame index; without one (a single frame) it is the steady state, zero.
+  *
+  * The term has a second form beside the disparity offset (the simulator draws only the first):
+  * when warming changes the focal length of the IR camera rather than the pattern's position,
+  * depth scales, Delta z = scale z exp(-frame / tau), growing with z where the disparity offset's
+  * Delta z = -J amplitude_px grows with z^2. The lab fits both and the data choose (a fit with one
+  * of them at zero is the other form).
   */
 struct TemporalDrift
 {
@@ -59,7 +65,7 @@ struct TemporalDrift
   termParameters ()
   {
     const double tau = SimParameters ().time_constant_frames;
-    return {{"amplitude_px", 0.0, 0.05, 0.02}, {"time_constant_frames", tau, tau, 5.0}};
+    return {{"amplitude_px", 0.0, 0.05, 0.02}, {"time_constant_frames", tau, tau, 5.0}, {"scale", 0.0, 0.0, 0.002}};
   }
 
   /** \brief Disparity offset at frame \a frame, px: A exp(-frame / tau) (tau at least 1e-3). */
@@ -75,7 +81,7 @@ struct TemporalDrift
   {
     if (!std::isfinite (ctx.frame))
       return 0.0;
-    return -depthPerDisparity (ctx) * offsetAt (p[0], p[1], ctx.frame);
+    return -depthPerDisparity (ctx) * offsetAt (p[0], p[1], ctx.frame) + termDepthMm (ctx) * offsetAt (p[2], p[1], ctx.frame);
   }
 };
 
