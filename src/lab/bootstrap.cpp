@@ -64,7 +64,8 @@ synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<
     double disparity = d.plane[p.rec] ? s.planes[p.rec].dot (Eigen::Vector3d (1.0, p.x, p.y))
                                       : 1000.0 * m.fb () / m.surface_mm[p.index];
     if (mv.grid)
-      disparity += linearBiasPx (*mv.grid, grid_nodes, double (p.index % m.width), double (p.index / m.width));
+      disparity += linearBiasPx (*mv.grid, grid_nodes, double (p.index % m.width), double (p.index / m.width),
+                                 m.surface_mm[p.index], m.fb ());
     disparity -= bias / p.J;
     disparity += gauss (rng) * std::sqrt ((var + col) / p.n) / p.J;
     p.disparity = static_cast<float> (disparity);

@@ -145,7 +145,7 @@ ModelLab::evaluate (const NoiseModel &model, Half half, PixelErrors *pixels) con
     sd2 += (sd_pred - sd_meas) * (sd_pred - sd_meas);
     double surface_disparity = d.plane[p.rec] ? s.planes[p.rec].dot (Eigen::Vector3d (1.0, p.x, p.y))
                                               : 1000.0 * m.fb () / m.surface_mm[p.index];
-    const double mu = 1000.0 * m.fb () / surface_disparity + mo.bias_mm;
+    const double mu = predictedMeanMm (surface_disparity, 1000.0 * m.fb (), mo.bias_mm, p.J);
     const double e = p.mean_mm - mu;
     b2 += e * e;
     if (pixels)

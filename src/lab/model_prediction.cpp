@@ -63,7 +63,7 @@ ModelLab::predict (const NoiseModel &model, std::size_t r, std::vector<float> &s
     const double x = (double (i % m.width) - m.camera.cx ()) / m.camera.fx ();
     const double y = (double (i / m.width) - m.camera.cy ()) / m.camera.fy ();
     const double disparity = d.plane[r] ? s.planes[r].dot (Eigen::Vector3d (1.0, x, y)) : fb1000 / m.surface_mm[i];
-    mean_mm[i] = static_cast<float> (fb1000 / disparity + mo.bias_mm);
+    mean_mm[i] = static_cast<float> (predictedMeanMm (disparity, fb1000, mo.bias_mm, J));
   }
 }
 

@@ -192,7 +192,13 @@ fitObjective (NoiseModel &model, const ModelLab::Data &d, const std::vector<Reco
   const ModelView mv (model);
   staticFit (mv, d, recs, true, s);
   if (mv.grid && !s.grid.empty ())
-    model.find (mv.grid->name ())->setParameters (s.grid);
+  {
+    // Settings first: setting one resets the term's parameters.
+    const NoiseTerm::Ptr grid = model.find (mv.grid->name ());
+    for (const auto &kv : s.grid_settings)
+      grid->setSetting (kv.first, kv.second);
+    grid->setParameters (s.grid);
+  }
   return objective (ModelView (model), d, s) / d.samples;
 }
 

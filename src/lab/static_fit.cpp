@@ -5,6 +5,8 @@
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <limits>
+#include <utility>
 
 namespace pcl
 {
@@ -16,7 +18,8 @@ namespace detail
 {
 
 double
-linearBiasPx (const NoiseTerm &grid, const std::vector<double> &nodes, double u, double v)
+linearBiasPx (const NoiseTerm &grid, const std::vector<double> &nodes, double u, double v, double depth_mm,
+              double fb_px_m)
 {
   int idx[kMaxBiasBasis];
   double wt[kMaxBiasBasis];
@@ -24,7 +27,7 @@ linearBiasPx (const NoiseTerm &grid, const std::vector<double> &nodes, double u,
   double offset = 0;
   for (int k = 0; k < grid.linearBiasSupport (); ++k)
     offset += wt[k] * nodes[idx[k]];
-  return offset;
+  return offset * grid.linearBiasShape (depth_mm, fb_px_m);
 }
 
 double
@@ -49,16 +52,20 @@ binMoments (const ModelView &mv, const std::vector<Bin> &bins, StaticState &s)
   }
 }
 
+namespace
+{
+
+/** staticFit with the grid term \a grid (mv.grid, or a copy of it with other shape settings). */
 void
-staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
-           bool fit_grid, StaticState &s)
+solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d,
+             const std::vector<RecordingMeasurement::ConstPtr> &recs, bool fit_grid, StaticState &s)
 {
   const std::vector<Bin> &bins = mv.quantised ? d.qbins : d.bins;
   binMoments (mv, bins, s);
   const std::size_t R = recs.size ();
-  const std::vector<double> fixed_grid = mv.grid ? mv.grid->parameters () : std::vector<double> ();
-  const int G = mv.grid && fit_grid ? static_cast<int> (fixed_grid.size ()) : 0;
-  const int K = mv.grid ? mv.grid->linearBiasSupport () : 0;
+  const std::vector<double> fixed_grid = grid ? grid->parameters () : std::vector<double> ();
+  const int G = grid && fit_grid ? static_cast<int> (fixed_grid.size ()) : 0;
+  const int K = grid ? grid->linearBiasSupport () : 0;
   // Quantised models: the mean offset of the rounding at each pixel's own sub-step phase (it
   // changes by a whole step over a phase, too fast for bins), from the bin's noise before it.
   s.pixel_bias.clear ();
@@ -89,11 +96,14 @@ staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<Recor
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero (N);
   auto gridAt = [&] (const PixelRow &p, int *idx, double *wt) {
     const RecordingMeasurement &m = *recs[p.rec];
-    mv.grid->linearBiasBasis (double (p.index % m.width), double (p.index / m.width), idx, wt);
+    grid->linearBiasBasis (double (p.index % m.width), double (p.index / m.width), idx, wt);
+    const double shape = grid->linearBiasShape (m.surface_mm[p.index], m.fb ());
+    for (int k = 0; k < K; ++k)
+      wt[k] *= shape;
   };
   auto target = [&] (const PixelRow &p) {
     double t = p.disparity + (mv.quantised ? s.pixel_bias[&p - d.px.data ()] / p.J : 0.0);
-    if (mv.grid && !fit_grid)
+    if (grid && !fit_grid)
     {
       int idx[kMaxBiasBasis];
       double wt[kMaxBiasBasis];
@@ -137,10 +147,35 @@ staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<Recor
       }
     }
   }
-  // A small ridge keeps nodes without data (and the grid's mean, which the planes share) at zero.
-  const double ridge = 1e-9 * (A.diagonal ().cwiseAbs ().maxCoeff () + 1.0);
+  // A small ridge keeps nodes without data at zero.
+  const double scale = A.diagonal ().cwiseAbs ().maxCoeff () + 1.0, ridge = 1e-9 * scale;
   for (int k = 0; k < N; ++k)
     A (k, k) += (k >= static_cast<int> (3 * R)) ? 1e3 * ridge : ridge;
+  // The planes carry the affine part (1, u, v) of the map: it is held at zero over the image.
+  // Where the map's shape changes with depth within a recording the two are no longer exactly
+  // interchangeable, only nearly, and the fit would trade large opposite tilts between them.
+  if (G)
+  {
+    const RecordingMeasurement &m = *recs.front ();
+    std::vector<Eigen::VectorXd> affine (3, Eigen::VectorXd::Zero (G));
+    int idx[kMaxBiasBasis];
+    double wt[kMaxBiasBasis];
+    for (int v = 0; v < m.height; v += 4)
+      for (int u = 0; u < m.width; u += 4)
+      {
+        grid->linearBiasBasis (u, v, idx, wt);
+        const double phi[3] = {1.0, (u - 0.5 * m.width) / m.width, (v - 0.5 * m.height) / m.width};
+        for (int a = 0; a < 3; ++a)
+          for (int k = 0; k < K; ++k)
+            affine[a][idx[k]] += phi[a] * wt[k];
+      }
+    for (auto &c : affine)
+      if (c.norm () > 0)
+      {
+        c.normalize ();
+        A.bottomRightCorner (G, G) += 1e3 * scale * c * c.transpose ();
+      }
+  }
   const Eigen::VectorXd sol = A.ldlt ().solve (rhs);
   s.planes.assign (R, Eigen::Vector3d::Zero ());
   for (std::size_t r = 0; r < R; ++r)
@@ -169,6 +204,52 @@ staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<Recor
     const double e = p.J * (target (p) - predicted);
     const int b = mv.quantised ? p.qbin : p.bin;
     s.ss_static[b] += p.n * e * e;
+  }
+}
+
+} // namespace
+
+void
+staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
+           bool fit_grid, StaticState &s)
+{
+  s.grid_settings.clear ();
+  const auto search = mv.grid && fit_grid ? mv.grid->linearBiasShapeSearch ()
+                                          : std::vector<std::pair<std::string, std::vector<double>>> ();
+  if (search.empty ())
+  {
+    solveStatic (mv, mv.grid.get (), d, recs, fit_grid, s);
+    return;
+  }
+  // Every combination of the shape settings (an odometer over their value lists); the static
+  // part of the NLL (the variances do not depend on the shape) picks one.
+  std::vector<std::size_t> at (search.size (), 0);
+  double best = std::numeric_limits<double>::infinity ();
+  for (;;)
+  {
+    const NoiseTerm::Ptr grid = mv.grid->clone ();
+    std::vector<std::pair<std::string, double>> settings;
+    for (std::size_t k = 0; k < search.size (); ++k)
+    {
+      settings.emplace_back (search[k].first, search[k].second[at[k]]);
+      grid->setSetting (search[k].first, search[k].second[at[k]]);
+    }
+    StaticState trial;
+    solveStatic (mv, grid.get (), d, recs, true, trial);
+    double score = 0;
+    for (std::size_t b = 0; b < trial.ss_static.size (); ++b)
+      score += trial.ss_static[b] / (trial.bin_var[b] + trial.bin_col[b]);
+    if (score < best)
+    {
+      best = score;
+      s = std::move (trial);
+      s.grid_settings = settings;
+    }
+    std::size_t k = 0;
+    while (k < search.size () && ++at[k] == search[k].second.size ())
+      at[k++] = 0;
+    if (k == search.size ())
+      break;
   }
 }
 

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pcl
@@ -62,15 +63,31 @@ struct ModelView
   }
 };
 
-/** The disparity offset (px) of linear bias term \a grid with node values \a nodes at (u, v). */
+/** The disparity offset (px) of linear bias term \a grid with node values \a nodes at (u, v),
+  * at depth \a depth_mm of a recording of f b \a fb_px_m (the term's shape along depth).
+  */
 double
-linearBiasPx (const NoiseTerm &grid, const std::vector<double> &nodes, double u, double v);
+linearBiasPx (const NoiseTerm &grid, const std::vector<double> &nodes, double u, double v, double depth_mm,
+              double fb_px_m);
+
+/** The predicted mean depth (mm) of a pixel whose fitted surface has disparity \a surface_px
+  * (f b 1000 = \a fb1000) under a model bias of \a bias_mm (J = \a J_mm_per_px there). The fits
+  * take every bias as the disparity offset -bias / J (staticFit), so this converts it back in
+  * disparity rather than adding it in depth: the two differ by J offset^2 / d, tens of mm where
+  * a distortion of a good part of a pixel meets a small disparity.
+  */
+inline double
+predictedMeanMm (double surface_px, double fb1000, double bias_mm, double J_mm_per_px)
+{
+  return fb1000 / (surface_px - bias_mm / J_mm_per_px);
+}
 
 /** Result of the linear fit of surfaces (and a distortion grid) for one model on one half. */
 struct StaticState
 {
   std::vector<Eigen::Vector3d> planes;   // per recording (plane scenes)
   std::vector<double> grid;              // fitted grid node offsets, px (empty: the model's own)
+  std::vector<std::pair<std::string, double>> grid_settings; // the grid's shape settings the fit chose
   std::vector<double> ss_static;         // per bin of the set in use: sum of n e^2
   std::vector<double> bin_var, bin_col, bin_bias; // per bin of the set in use
   std::vector<float> pixel_bias;         // quantised models: per-pixel bias (mm) of the other terms
@@ -87,7 +104,9 @@ void
 binMoments (const ModelView &mv, const std::vector<Bin> &bins, StaticState &s);
 
 /** Linear fit of the surfaces (plane scenes) and, when fit_grid, of the distortion grid, to the
-  * pixels' mean disparities with the model's other biases removed; then the static sums.
+  * pixels' mean disparities with the model's other biases removed; then the static sums. When
+  * fitting a grid whose shape along depth has settings to search (linearBiasShapeSearch), every
+  * combination is fitted and the one with the smallest static NLL kept (grid_settings).
   */
 void
 staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,

@@ -120,6 +120,9 @@ using RoundingOp = decltype (E::roundingMoments (std::declval<const double *> ()
 template <typename E>
 using BiasBasisOp = decltype (E::biasBasis (std::declval<Args<E>> (), 0.0, 0.0, std::declval<int *> (),
                                             std::declval<double *> ()));
+template <typename E>
+using BiasShapeOp = decltype (E::biasShape (std::declval<Args<E>> (), 0.0, 0.0));
+template <typename E> using BiasShapeSearchOp = decltype (E::biasShapeSearch ());
 
 template <typename E>
 constexpr bool
@@ -308,6 +311,24 @@ public:
   {
     if constexpr (detail::Has<Effect, detail::BiasBasisOp>::value)
       Effect::biasBasis (settings_, u, v, index, weight);
+  }
+
+  double
+  linearBiasShape (double depth_mm, double fb_px_m) const override
+  {
+    if constexpr (detail::Has<Effect, detail::BiasShapeOp>::value)
+      return Effect::biasShape (settings_, depth_mm, fb_px_m);
+    else
+      return 1.0;
+  }
+
+  std::vector<std::pair<std::string, std::vector<double>>>
+  linearBiasShapeSearch () const override
+  {
+    if constexpr (detail::Has<Effect, detail::BiasShapeSearchOp>::value)
+      return Effect::biasShapeSearch ();
+    else
+      return {};
   }
 
   void

@@ -147,6 +147,19 @@ public:
   virtual void
   linearBiasBasis (double /*u*/, double /*v*/, int * /*index*/, double * /*weight*/) const {}
 
+  /** \brief The factor by which the linear bias basis scales at depth \a depth_mm (f b \a fb_px_m),
+    * from the term's settings: 1 (the default) for a disparity offset map the same at every
+    * depth.
+    */
+  virtual double
+  linearBiasShape (double /*depth_mm*/, double /*fb_px_m*/) const { return 1.0; }
+
+  /** \brief The settings that shape a linear bias along depth and the values the lab tries for
+    * each (it keeps the combination whose least-squares fit is best); empty (the default): none.
+    */
+  virtual std::vector<std::pair<std::string, std::vector<double>>>
+  linearBiasShapeSearch () const { return {}; }
+
   /** \brief Sets the values the lab starts a fit from (a neutral value is a saddle), some of
     * them from what it knows of the recordings.
     */

@@ -26,6 +26,13 @@ namespace effects
   * Positive offsets pull the surface toward the sensor. The term is a disparity offset map, a
   * bilinear grid of nodes_x x nodes_y nodes over the image, linear in its nodes: the model lab
   * fits it by least squares (its bias basis) rather than with the non-linear parameters.
+  *
+  * The map's shape along depth covers the forms the physics allows (the simulator draws only
+  * the first): a disparity offset the same at every depth (depth_power 0, decay_per_px 0);
+  * Herrera et al.'s disparity distortion, the map times exp(alpha0 - alpha1 d), which fades with
+  * disparity d (decay_per_px = alpha1 per px of disparity at 640 px width, the map's values
+  * those at 1.5 m); and a depth scale map, a bias growing with z rather than z^2
+  * (depth_power 1: the offset times 1500 mm / z). The lab tries each and keeps what fits.
   */
 struct DepthDistortion
 {
@@ -91,7 +98,27 @@ struct DepthDistortion
     int image_height = 480;
     int nodes_x = 17;       ///< grid nodes across
     int nodes_y = 13;       ///< grid nodes down
+    int depth_power = 0;    ///< 0: a disparity offset map (bias ~ z^2); 1: a depth scale map (bias ~ z)
+    double decay_per_px = 0.0; ///< Herrera's alpha1: exp(-decay (d - d(1.5 m))), d in px at 640 px width
   };
+
+  /** \brief The factor of the map at depth \a depth_mm: 1 at 1.5 m (the map's own values). */
+  static PCL_TEXLET_HD double
+  biasShape (const TermSettings &s, double depth_mm, double fb_px_m)
+  {
+    const double reference_mm = 1500.0;
+    double f = s.depth_power == 1 ? reference_mm / depth_mm : 1.0;
+    if (s.decay_per_px != 0.0)
+      f *= std::exp (-s.decay_per_px * 1000.0 * fb_px_m * (1.0 / depth_mm - 1.0 / reference_mm) * 640.0 / s.image_width);
+    return f;
+  }
+
+  /** \brief What the lab tries: both depth laws, and decays about Herrera's (0.0165 per px). */
+  static std::vector<std::pair<std::string, std::vector<double>>>
+  biasShapeSearch ()
+  {
+    return {{"depth_power", {0, 1}}, {"decay_per_px", {-0.04, -0.02, -0.01, 0.0, 0.01, 0.02, 0.04}}};
+  }
 
   static std::vector<Field<TermSettings>>
   termSettings ()
@@ -100,13 +127,22 @@ struct DepthDistortion
     return {{"image_width", "px", "width of the image the grid spans", R::PositiveInteger, &TermSettings::image_width},
             {"image_height", "px", "height of the image the grid spans", R::PositiveInteger, &TermSettings::image_height},
             {"nodes_x", "1", "grid nodes across", R::PositiveInteger, &TermSettings::nodes_x},
-            {"nodes_y", "1", "grid nodes down", R::PositiveInteger, &TermSettings::nodes_y}};
+            {"nodes_y", "1", "grid nodes down", R::PositiveInteger, &TermSettings::nodes_y},
+            {"depth_power", "1", "0: a disparity offset map (depth bias ~ z^2); 1: a depth scale map (~ z)",
+             R::NonNegative, &TermSettings::depth_power},
+            {"decay_per_px", "1/px", "Herrera's alpha1: the map fades as exp(-decay (d - d(1.5 m))), d at 640 px width",
+             R::Any, &TermSettings::decay_per_px}};
   }
 
   /** \brief What is wrong with \a s, or "" when nothing. */
   static std::string
   settingsProblem (const TermSettings &s)
   {
+    if (s.depth_power != 0 && s.depth_power != 1)
+      return "depth_power must be 0 (a disparity offset map) or 1 (a depth scale map), got " +
+             std::to_string (s.depth_power);
+    if (!(std::fabs (s.decay_per_px) <= 1.0))
+      return "decay_per_px must be within [-1, 1] per px of disparity";
     if (s.image_width >= 2 && s.image_height >= 2 && s.nodes_x >= 2 && s.nodes_y >= 2 && s.nodes_x * s.nodes_y <= 100000)
       return "";
     std::ostringstream msg;
@@ -151,7 +187,7 @@ struct DepthDistortion
   static PCL_TEXLET_HD double
   bias (const double *p, const TermSettings &s, const PixelContext &ctx)
   {
-    return -depthPerDisparity (ctx) *
+    return -depthPerDisparity (ctx) * biasShape (s, termDepthMm (ctx), ctx.fb_px_m) *
            bilinear (p, s.nodes_x, s.nodes_y, s.image_width, s.image_height, ctx.u, ctx.v);
   }
 
