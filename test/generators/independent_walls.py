@@ -11,7 +11,7 @@ depth/*.png in whole millimetres, rgb/*.png where the wall is printed, meta.yaml
 tests only, truth.yaml with what was hidden (the lab never reads it).
 
   independent_walls.py OUT [--width W --height H --frames N --distance M --tilt-x DEG
-      --tilt-y DEG --seed S --noise-in depth|disparity --projectors P]
+      --tilt-y DEG --seed S --sensor-seed S --noise-in depth|disparity --projectors P]
       [--effect NAME[:key=value,...]]...
 
 Effects (NAME and keys; defaults in EFFECTS below): see docs/model_lab.md, "The independent
@@ -116,6 +116,8 @@ def main():
     p.add_argument('--tilt-x', type=float, default=0.0)
     p.add_argument('--tilt-y', type=float, default=0.0)
     p.add_argument('--seed', type=int, default=1)
+    p.add_argument('--sensor-seed', type=int, default=-1,
+                   help="the sensor's own draws (the distortion map); default: --seed")
     p.add_argument('--noise-in', choices=['depth', 'disparity'], default='depth')
     p.add_argument('--projectors', type=int, default=1)
     p.add_argument('--fx', type=float, default=0.0, help='default 571.3 x width / 640')
@@ -141,6 +143,7 @@ def main():
     j = 1000 * z0 * z0 / fb  # mm of depth per px of disparity
     valid = np.ones(z0.shape, dtype=bool)
     static_bias = np.zeros(z0.shape)  # mm
+    static_disparity_px = np.zeros(z0.shape)  # added to the disparity, px
     albedo = None
 
     if 'axial_quadratic' in effects:
@@ -167,13 +170,17 @@ def main():
             # Herrera et al. 2012: a per-pixel map D(u, v) times exp(alpha0 - alpha1 d), d the
             # raw disparity; here D is a bowl plus a few smooth bumps, alpha1 per px of disparity.
             field = 0.6 * (x * x + y * y) / 0.3125
+            # The map belongs to the sensor: the same in every recording made with one --sensor-seed.
+            sensor = np.random.default_rng(args.sensor_seed if args.sensor_seed >= 0 else args.seed)
             for _ in range(5):
-                cx, cy, s = rng.uniform(-0.5, 0.5), rng.uniform(-0.4, 0.4), rng.uniform(0.12, 0.3)
-                field += rng.choice([-1, 1]) * 0.5 * np.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * s * s))
+                cx, cy, s = sensor.uniform(-0.5, 0.5), sensor.uniform(-0.4, 0.4), sensor.uniform(0.12, 0.3)
+                field += sensor.choice([-1, 1]) * 0.5 * np.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * s * s))
             d = fb / z0
             d_ref = fb / 1.5
-            delta_px = e['amplitude_px'] * field * np.exp(-e['alpha1'] * (d - d_ref) * 640 / args.width)
-            static_bias += -j * delta_px
+            # Applied to the disparity itself (below), as the toolbox corrects it: in depth, -j delta
+            # is only its first order, off by j delta^2 / d (tens of mm where delta is a good part
+            # of a pixel and d is small).
+            static_disparity_px += e['amplitude_px'] * field * np.exp(-e['alpha1'] * (d - d_ref) * 640 / args.width)
         else:
             rho2 = x * x + y * y
             static_bias += d_mm * (0.004 * rho2 - 0.006 * rho2 * rho2) * e['amplitude_px'] / 0.25
@@ -219,6 +226,7 @@ def main():
             ar1 = white if ar1 is None else rho * ar1 + math.sqrt(1 - rho * rho) * white
             white = ar1
         truth_mm = d_mm * scale + static_bias + offset_mm
+        truth_mm = 1000 * fb / (1000 * fb / truth_mm + static_disparity_px)
         if 'disparity_quantization' in effects and effects['disparity_quantization']['where'] == 'before':
             truth_mm = lattice / np.maximum(1, np.round(lattice / truth_mm))
         if args.noise_in == 'depth':

@@ -1,0 +1,88 @@
+/*
+ * pcl_texlet tests: the model lab's proof on a set of recordings, whoever made them (the
+ * simulator in test_lab.cpp, the independent generator in test_lab_independent.cpp). The lab,
+ * started from the paper's model and not told what is hidden, ranks the candidates; adding the
+ * first must bring the error where it shows down.
+ */
+#pragma once
+
+#include <pcl_texlet/lab/model_lab.h>
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace pcl_texlet_test
+{
+
+/** \brief What the lab did with one set of recordings. */
+struct LabRun
+{
+  pcl::texlet::lab::LabMetrics before, after;
+  std::vector<pcl::texlet::lab::Candidate> candidates;
+};
+
+/** \brief Ranks the candidates on top of the paper's model and, when \a add_first, adds the
+  * first and evaluates the result; prints what it found under \a title.
+  */
+inline LabRun
+runLabOn (const std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr> &recordings, const std::string &title,
+          bool add_first)
+{
+  using namespace pcl::texlet;
+  lab::ModelLab lab{lab::LabSettings ()};
+  for (const auto &r : recordings)
+    lab.addRecording (r);
+  LabRun run;
+  const NoiseModel paper = NoiseModel::paper ();
+  run.before = lab.evaluate (paper);
+  run.candidates = lab.rankCandidates (paper);
+  std::cout << title << "\n  start: sd_rmse " << run.before.sd_rmse_mm << " bias_rmse " << run.before.bias_rmse_mm
+            << " nll " << run.before.nll << "\n";
+  for (const auto &c : run.candidates)
+    std::cout << "  " << c.effect << ": gain " << c.gain << " (" << c.total_gain << " nats in all) threshold "
+              << c.threshold << " (null " << c.null_mean << " +- " << c.null_sd << "), " << c.effect_shows_in
+              << " error " << 100.0 * c.effect_size << " % lower where it shows ("
+              << 100.0 * c.effect_share << " % of pixels)" << (c.significant ? " significant" : "")
+              << (c.statistically_significant && !c.significant ? " (detectable, too small)" : "") << " sd_rmse "
+              << c.metrics.sd_rmse_mm << " bias_rmse " << c.metrics.bias_rmse_mm << "\n";
+  if (add_first && !run.candidates.empty ())
+  {
+    const NoiseModel added = lab.addEffect (paper, run.candidates.front ().effect);
+    run.after = lab.evaluate (added);
+    std::cout << "  after adding " << run.candidates.front ().effect << ": sd_rmse " << run.after.sd_rmse_mm
+              << " bias_rmse " << run.after.bias_rmse_mm << " nll " << run.after.nll << "\n";
+  }
+  return run;
+}
+
+/** \brief The hidden \a effect must be ranked first and significant, and adding it must bring the
+  * error where it shows (the bias when \a shows_in_bias, else the SD) to at most \a max_ratio of
+  * the paper's.
+  */
+inline void
+expectFoundIn (const std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr> &recordings,
+               const std::string &effect, bool shows_in_bias, double max_ratio = 0.5)
+{
+  const LabRun run = runLabOn (recordings, "hidden effect: " + effect, true);
+  ASSERT_FALSE (run.candidates.empty ());
+  EXPECT_EQ (run.candidates.front ().effect, effect);
+  EXPECT_TRUE (run.candidates.front ().significant);
+  const double before = shows_in_bias ? run.before.bias_rmse_mm : run.before.sd_rmse_mm;
+  const double after = shows_in_bias ? run.after.bias_rmse_mm : run.after.sd_rmse_mm;
+  EXPECT_LE (after, max_ratio * before) << (shows_in_bias ? "bias_rmse_mm" : "sd_rmse_mm");
+}
+
+/** \brief No candidate may be significant (nothing is hidden). */
+inline void
+expectNothingSignificantIn (const std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr> &recordings)
+{
+  const LabRun run = runLabOn (recordings, "hidden effect: none", false);
+  for (const auto &c : run.candidates)
+    EXPECT_FALSE (c.significant) << c.effect << " gain " << c.gain << " threshold " << c.threshold << " effect size "
+                                 << c.effect_size;
+}
+
+} // namespace pcl_texlet_test
