@@ -83,11 +83,11 @@ Matrix
 matrix (const YAML::Node &root, const std::string &key, const std::string &path)
 {
   const YAML::Node node = root[key];
-  YAML::Node data = node;
+  // Node's operator= would write into the node it refers to; the const copies only refer.
+  const YAML::Node data = node.IsMap () ? node["data"] : node;
   Matrix m;
   if (node.IsMap ())
   {
-    data = node["data"];
     if (!data || !data.IsSequence ())
       throw calibrationError (path, key + " must have data: a list of numbers");
     const YAML::Node rows = node["rows"];
@@ -137,11 +137,13 @@ vector (const YAML::Node &root, const std::string &key, std::size_t n, const std
 }
 
 /** \brief YAML text of \a path without OpenCV's "%YAML:1.0" first line, which yaml-cpp refuses
-  * (YAML 1.x spells the directive "%YAML 1.0"). Nothing else is changed.
+  * (YAML 1.x spells the directive "%YAML 1.0"); \a stripped_lines counts what went. Nothing
+  * else is changed.
   */
 std::string
-yamlText (const std::string &path)
+yamlText (const std::string &path, int &stripped_lines)
 {
+  stripped_lines = 0;
   std::ifstream in (path, std::ios::binary);
   if (!in)
     throw calibrationError (path, "cannot open");
@@ -152,7 +154,7 @@ yamlText (const std::string &path)
   {
     const std::size_t end = s.find ('\n');
     s.erase (0, end == std::string::npos ? s.size () : end + 1);
-    // Without the directive a "---" that opened the document is an ordinary document start.
+    stripped_lines = 1; // a "---" after it is now an ordinary document start
   }
   return s;
 }
@@ -185,14 +187,15 @@ loadKinectDisparityCalibration (const std::string &path)
   if (!fs::exists (path, ec))
     throw calibrationError (path, "file does not exist");
   YAML::Node root;
+  int stripped_lines = 0;
   try
   {
-    root = YAML::Load (yamlText (path));
+    root = YAML::Load (yamlText (path, stripped_lines));
   }
   catch (const YAML::ParserException &e)
   {
-    throw calibrationError (path, "not valid YAML (line " + std::to_string (e.mark.line + 1) + ", column " +
-                                      std::to_string (e.mark.column + 1) + " after the %YAML line: " + e.msg + ")");
+    throw calibrationError (path, "not valid YAML (line " + std::to_string (e.mark.line + 1 + stripped_lines) +
+                                      ", column " + std::to_string (e.mark.column + 1) + ": " + e.msg + ")");
   }
   if (!root.IsMap ())
     throw calibrationError (path, "not a YAML map of calibration keys");
