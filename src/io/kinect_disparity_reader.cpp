@@ -4,7 +4,6 @@
 
 #include <pcl/exceptions.h>
 
-#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <system_error>
@@ -21,21 +20,24 @@ namespace texlet
 namespace
 {
 
-/** \brief Reads \a samples little-endian where they must be: some sample above 2047 (no 11-bit
-  * disparity) while every byte-swapped one is at most 2047. A frame of valid big-endian
-  * disparities never has the first; a frame with any invalid pixel (2047 is FF 07) swapped
-  * has it, so the test decides every frame that holds a pixel without a reading.
+/** \brief Byte-swaps \a samples where more of them are 11-bit disparities (at most 2047) that
+  * way: a frame written in little-endian order. Valid disparities read in the wrong order are
+  * mostly above 2047 (760 is 02 F8, read F8 02), so the right order wins by far; a tie (a frame
+  * of zeros) keeps the specification's order.
   */
 void
 undoLittleEndian (std::vector<std::uint16_t> &samples)
 {
   const auto swapped = [] (std::uint16_t s) { return static_cast<std::uint16_t> ((s >> 8) | (s << 8)); };
-  const bool above = std::any_of (samples.begin (), samples.end (), [] (std::uint16_t s) { return s > kKinectNoDisparity; });
-  if (!above || !std::all_of (samples.begin (), samples.end (),
-                              [&] (std::uint16_t s) { return swapped (s) <= kKinectNoDisparity; }))
-    return;
-  for (std::uint16_t &s : samples)
-    s = swapped (s);
+  std::size_t as_read = 0, as_swapped = 0;
+  for (const std::uint16_t s : samples)
+  {
+    as_read += s <= kKinectNoDisparity;
+    as_swapped += swapped (s) <= kKinectNoDisparity;
+  }
+  if (as_swapped > as_read)
+    for (std::uint16_t &s : samples)
+      s = swapped (s);
 }
 
 bool

@@ -26,8 +26,9 @@ namespace texlet
   * not finite or above 65535 mm.
   *
   * Samples are big-endian as the PGM specification says. libfreenect's recorder writes them in
-  * the host's (little-endian) order instead; like the toolbox's read_disparity, a frame with a
-  * sample above 2047 whose byte-swapped samples are all at most 2047 is read swapped.
+  * the host's (little-endian) order instead; like the toolbox's read_disparity, which swaps a
+  * frame whose samples exceed 11 bits only when swapped, a frame is read byte-swapped when more
+  * of its samples are at most 2047 that way.
   *
   * The image size is the calibration's image_width x image_height when it gives them, else the
   * first frame's; every frame must have it.
