@@ -47,8 +47,8 @@ struct KinectDisparityCalibration
   * YAML lists). The keys, each under one of the names given (two names of one quantity are an
   * error):
   * - camera matrix, 3x3, required: dK (Herrera's toolbox), depth_intrinsics, camera_matrix or K;
-  * - distortion, 4, 5 or 8 numbers (k1 k2 p1 p2 [k3 ...]), optional: dkc, depth_distortion,
-  *   distortion_coefficients or D; none is no distortion;
+  * - distortion, 4 or 5 numbers (k1 k2 p1 p2 [k3]; more only when those are 0), optional: dkc,
+  *   depth_distortion, distortion_coefficients or D; none is no distortion;
   * - c0 and c1, required: dc = [c0 c1] (1x2, Herrera's order: z = 1 / (dc(2) d + dc(1))),
   *   depth_calibration = [c0 c1], or scalars c0 and c1;
   * - dc_alpha (1x2) and dc_beta (height x width), optional, Herrera's disparity distortion;
@@ -57,8 +57,10 @@ struct KinectDisparityCalibration
   *
   * info.disparity_subpixel is set to fx baseline |c1|, the step in pixels one unit of raw
   * disparity is, so that the disparity lattice of the depths is the one the calibration implies.
+  * Other keys (the toolbox's colour camera and extrinsics) are ignored.
   * \throws pcl::IOException naming the file and the problem: missing file, not YAML, a missing
-  *         or malformed key, c1 zero or c0, c1 not finite, focal lengths not positive.
+  *         or malformed key, two names of one quantity, c1 zero or c0, c1 not finite, focal
+  *         lengths not positive.
   */
 KinectDisparityCalibration
 loadKinectDisparityCalibration (const std::string &path);
