@@ -219,7 +219,8 @@ openSource (const std::string &input)
   if (fs::is_directory (input))
   {
     const auto kind = pcl::texlet::recordingKind (input); // throws, naming the folder, for none
-    if (kind == pcl::texlet::RecordingKind::recording_folder || kind == pcl::texlet::RecordingKind::grabber_tiff_folder)
+    if (kind == pcl::texlet::RecordingKind::recording_folder || kind == pcl::texlet::RecordingKind::grabber_tiff_folder ||
+        kind == pcl::texlet::RecordingKind::kinect_disparity_folder)
       return std::make_unique<RecordingSource> (input);
     std::vector<std::string> files;
     for (const auto &e : fs::directory_iterator (input))

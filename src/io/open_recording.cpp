@@ -1,6 +1,7 @@
 #include <pcl_texlet/io/open_recording.h>
 
 #include <pcl_texlet/io/grabber_tiff_reader.h>
+#include <pcl_texlet/io/kinect_disparity_reader.h>
 #include <pcl_texlet/io/oni_reader.h>
 #include <pcl_texlet/io/pcd_folder_reader.h>
 #include <pcl_texlet/io/recording_folder_reader.h>
@@ -35,9 +36,11 @@ recordingKind (const std::string &path)
       return RecordingKind::grabber_tiff_folder;
     if (PcdFolderReader::hasPcdFiles (path))
       return RecordingKind::pcd_folder;
+    if (KinectDisparityReader::isKinectDisparityFolder (path))
+      return RecordingKind::kinect_disparity_folder;
     throw pcl::IOException ("recording folder '" + path + "': " + (fs::is_empty (folder, ec) ? "is empty" : "is not a recording") +
                             "; expected camera.yaml + depth/*.png (a recording folder), *_depth.tiff + intrinsics.xml "
-                            "(PCL's image grabber) or *.pcd files");
+                            "(PCL's image grabber), *.pcd files or *.pgm + calibration.yml (raw Kinect disparity)");
   }
   const std::string ext = detail::lowerExtension (path);
   if (ext == ".oni")
@@ -59,6 +62,8 @@ openRecording (const std::string &path)
     case RecordingKind::pcd_folder:
     case RecordingKind::pcd_file:
       return std::make_shared<PcdFolderReader> (path);
+    case RecordingKind::kinect_disparity_folder:
+      return std::make_shared<KinectDisparityReader> (path);
     case RecordingKind::oni_file:
       return std::make_shared<OniReader> (path);
   }

@@ -18,6 +18,8 @@ enum class RecordingKind
   recording_folder,    ///< camera.yaml and/or depth/: RecordingFolderReader
   grabber_tiff_folder, ///< *_depth.tiff files, directly or in tiff/: GrabberTiffReader
   pcd_folder,          ///< *.pcd files: PcdFolderReader
+  kinect_disparity_folder, ///< *.pgm files and/or calibration.yml (or .yaml, calib.yml, calib.yaml):
+                           ///< KinectDisparityReader
   pcd_file,            ///< one .pcd file: PcdFolderReader, one frame
   oni_file             ///< one .oni file: OniReader
 };
