@@ -164,7 +164,7 @@ run (int argc, char **argv)
       std::cout << "  candidate " << k + 1 << ": " << c.effect;
       if (c.applicable)
         std::cout << " gain " << c.gain << " (threshold " << c.threshold << "), " << c.effect_shows_in << " error "
-                  << 100.0 * c.effect_size << " % lower where it shows"
+                  << 100.0 * c.effect_size << " % of its squared error removed where it shows"
                   << (c.significant ? " significant" : (c.statistically_significant ? " (detectable, too small)" : ""));
       else
         std::cout << " not testable (" << c.note << ")";

@@ -193,7 +193,7 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     c.error_after_mm = in_sd ? size.sd_after_mm : size.bias_after_mm;
 #pragma omp critical(lab_progress)
     say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample, " +
-         c.effect_shows_in + " error " + std::to_string (100.0 * c.effect_size) + " % lower where it shows");
+         c.effect_shows_in + " error " + std::to_string (100.0 * c.effect_size) + " % of its squared error removed where it shows");
   });
   for (std::size_t k = 0; k < out.size (); ++k)
   {

@@ -20,8 +20,8 @@ struct Fall
   double fall = 0, share = 0, before = 0, after = 0;
 };
 
-/** The fall of the RMS of (pred - meas) from \a b to \a c over the pixels where the prediction
-  * moves by at least half its 95th-percentile move.
+/** The fall of the mean square of (pred - meas) from \a b to \a c over the pixels where the
+  * prediction moves by at least half its 95th-percentile move, and the RMS before and after.
   */
 Fall
 fallWhereItShows (const std::vector<float> &b_pred, const std::vector<float> &c_pred, const std::vector<float> &meas)
@@ -53,7 +53,7 @@ fallWhereItShows (const std::vector<float> &b_pred, const std::vector<float> &c_
   out.share = count / move.size ();
   out.before = std::sqrt (e_b / count);
   out.after = std::sqrt (e_c / count);
-  out.fall = out.before > 0 ? 1.0 - out.after / out.before : 0.0;
+  out.fall = e_b > 0 ? 1.0 - e_c / e_b : 0.0;
   return out;
 }
 

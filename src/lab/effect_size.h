@@ -26,14 +26,16 @@ struct PixelErrors
 /** The practical effect of replacing \a base's predictions by \a candidate's (same pixels). */
 struct EffectSize
 {
-  double sd_fall = 0, bias_fall = 0;     ///< 1 - rmse(candidate) / rmse(base) where each shows
+  double sd_fall = 0, bias_fall = 0;     ///< 1 - mse(candidate) / mse(base) where each shows
   double sd_share = 0, bias_share = 0;   ///< share of the pixels where each shows
   double sd_before_mm = 0, sd_after_mm = 0, bias_before_mm = 0, bias_after_mm = 0;
 };
 
 /** Where a candidate shows: the pixels where it moves the prediction (SD, or the mean) by at
-  * least half the 95th percentile of its moves over all pixels; there, the fractional fall of the
-  * RMS error of the SD and of the bias. Zero where the candidate moves nothing.
+  * least half the 95th percentile of its moves over all pixels; there, the share of the mean
+  * squared error of the SD and of the bias that it removes (as R^2 is the share of a variance a
+  * model explains: the measured SD's own sampling noise stays in both, so the share of the
+  * error a model can remove is what is measured, not the noise). Zero where it moves nothing.
   */
 EffectSize
 effectSize (const PixelErrors &base, const PixelErrors &candidate);

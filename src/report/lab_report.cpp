@@ -639,10 +639,10 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     << lab.settings ().null_sigmas << " of their SDs, and the gain summed over the held-out samples is at least "
     << lab.settings ().min_total_gain_nats << " nats (a likelihood ratio of at least e^"
     << lab.settings ().min_total_gain_nats << " on data the fit did not see), and, so that it matters as well as "
-       "being detectable, the error where the effect shows (the pixels where adding it moves the predicted SD or "
-       "mean most) falls by at least "
+       "being detectable, it removes at least "
     << 100.0 * lab.settings ().min_effect_size
-    << " %.</p>\n<table><tr><th>#</th><th>effect</th><th>gain (nats/sample)"
+    << " % of the mean squared error of the SD or the bias where it shows (the pixels where adding it moves that "
+       "prediction most).</p>\n<table><tr><th>#</th><th>effect</th><th>gain (nats/sample)"
     << "</th><th>threshold</th><th>effect size (error where it shows)</th><th>significant</th><th>sd_rmse_mm</th>"
     << "<th>bias_rmse_mm</th><th>nll</th><th>shows in</th><th>physics</th></tr>\n";
   for (std::size_t k = 0; k < s.candidates.size (); ++k)
@@ -651,7 +651,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     h << "<tr><td>" << k + 1 << "</td><td>" << c.effect << "</td>";
     if (c.applicable)
       h << "<td>" << fmt (c.gain) << "</td><td>" << fmt (c.threshold, 3) << "</td><td>" << fmt (100.0 * c.effect_size, 3)
-        << " % of the " << c.effect_shows_in << " error (" << fmt (c.error_before_mm, 3) << " to "
+        << " % of the " << c.effect_shows_in << " error's mean square (RMS " << fmt (c.error_before_mm, 3) << " to "
         << fmt (c.error_after_mm, 3) << " mm over " << fmt (100.0 * c.effect_share, 2) << " % of pixels)</td><td"
         << (c.significant ? " class=\"sig\">yes" : (c.statistically_significant ? ">no (too small)" : ">no"))
         << "</td><td>" << fmt (c.metrics.sd_rmse_mm) << "</td><td>"

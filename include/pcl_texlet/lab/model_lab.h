@@ -81,9 +81,10 @@ struct Candidate
   double null_sd = 0;       ///< SD of those gains
   double threshold = 0;     ///< gain needed to be significant (also: gain * score samples >= LabSettings::min_total_gain_nats)
   double total_gain = 0;    ///< gain times the score half's samples: the held-out log-likelihood ratio, nats
-  /** \brief The practical effect where its signature shows, on the score half: the fractional
-    * fall of the RMS error of the predicted SD, or of the bias (the larger), over the pixels
-    * where adding it moves that prediction by at least half its 95th-percentile move.
+  /** \brief The practical effect where its signature shows, on the score half: the share of
+    * the mean squared error of the predicted SD, or of the bias (the larger), that it removes
+    * over the pixels where adding it moves that prediction by at least half its 95th-percentile
+    * move.
     */
   double effect_size = 0;
   std::string effect_shows_in;  ///< "sd" or "bias": which error effect_size is of
