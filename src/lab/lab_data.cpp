@@ -1,4 +1,5 @@
 #include "lab_data.h"
+#include "quantisation_lattice.h"
 
 #include <pcl_texlet/kernels/structured_light.h>
 
@@ -54,6 +55,12 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
   auto d = std::make_unique<ModelLab::Data> ();
   d->half = half;
   std::unordered_map<std::uint64_t, int> bin_of, qbin_of;
+  // Phase bins on the lattice the quantisation term starts from (quantisation_lattice.h).
+  const QuantisationLattice lattice = quantisationLattice (recs);
+  auto stepOf = [&] (const RecordingMeasurement &m) {
+    return lattice.stepPx (m.fb (), m.camera.disparity_subpixel > 0 ? m.camera.disparity_subpixel
+                                                                   : CameraInfo ().disparity_subpixel);
+  };
   for (std::size_t r = 0; r < recs.size (); ++r)
   {
     const RecordingMeasurement &m = *recs[r];
@@ -159,7 +166,8 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         const int ab = std::min (7, static_cast<int> (angle / 11.25));
         const float e = m.edge_distance_px[i];
         const int eb = e < 2.0f ? 0 : (e < 5.0f ? 1 : 2);
-        const int qb = std::min (19, static_cast<int> (20 * m.phase[i]));
+        const double phase = subStepPhase (fb1000 / m.surface_mm[i], stepOf (m), lattice.phase);
+        const int qb = std::min (19, static_cast<int> (20 * phase));
         const std::uint64_t key = ((((static_cast<std::uint64_t> (r) * 8 + rb) * 8 + zb) * 8 + ab) * 3 + eb);
         const std::uint64_t qkey = key * 20 + qb;
         for (int which = 0; which < 2; ++which)
@@ -186,7 +194,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
           B.sz += m.surface_mm[i];
           B.scos += m.cos_incidence[i];
           B.sedge += std::min (e, 1e3f);
-          B.sphase += m.phase[i];
+          B.sphase += phase;
           B.w += 1;
           (which ? qbin_at : bin_at)[i] = b;
         }
@@ -357,10 +365,10 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
       double z = B.sz / B.w;
       if (which)
       {
-        const double step = m.camera.disparity_subpixel > 0 ? m.camera.disparity_subpixel : CameraInfo ().disparity_subpixel;
+        const double step = stepOf (m);
         const double fb1000 = 1000.0 * m.fb ();
-        const double levels = std::floor (fb1000 / z / step);
-        z = fb1000 / ((levels + B.sphase / B.w) * step);
+        const double levels = std::floor (fb1000 / z / step - lattice.phase);
+        z = fb1000 / ((levels + lattice.phase + B.sphase / B.w) * step);
       }
       B.ctx.depth_mm = z;
       B.ctx.true_depth_mm = z;

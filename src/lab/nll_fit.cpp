@@ -1,5 +1,7 @@
 #include "nll_fit.h"
+
 #include "likelihood.h"
+#include "quantisation_lattice.h"
 
 #include <pcl_texlet/noise/effect_registry.h>
 #include <pcl_texlet/noise/noise_terms.h>
@@ -143,6 +145,15 @@ startValues (NoiseTerm &term, const std::vector<RecordingMeasurement::ConstPtr> 
   facts.image_width = recs.front ()->width;
   facts.image_height = recs.front ()->height;
   facts.disparity_step_px = recs.front ()->camera.disparity_subpixel;
+  if (term.quantises ())
+  {
+    const QuantisationLattice lattice = quantisationLattice (recs);
+    if (lattice.constant_mm > 0)
+    {
+      facts.lattice_step_px = lattice.stepPx (recs.front ()->fb (), facts.disparity_step_px);
+      facts.lattice_phase = lattice.phase;
+    }
+  }
   term.setLabStart (facts);
 }
 

@@ -124,8 +124,10 @@ effectTermsCompileCheck (const double *grid, double *out)
   const double column = fx::VerticalStripes::columnVariance (p2, none, ctx) + fx::VerticalStripes::frameVariance (p2, none, ctx);
   var *= factor;
   const double step[1] = {0.125};
-  fx::DisparityQuantization::transformMoments (step, none, ctx, bias, var);
+  const fx::DisparityQuantization::TermSettings lattice;
+  fx::DisparityQuantization::transformMoments (step, lattice, ctx, bias, var);
   double mean = 0, rounded = 0;
-  fx::DisparityQuantization::roundingMoments (step, none, 43.5e3 / ctx.depth_mm, 0.03, mean, rounded);
+  fx::DisparityQuantization::roundingMoments (step, lattice, 43.5e3 / ctx.depth_mm, 0.03, mean, rounded);
+  bias += fx::DepthDistortion::biasShape (grid_settings, ctx.depth_mm, 43.5);
   out[threadIdx.x] = bias + var + column + mean + rounded + weight[0] * index[0] + fx::depthPerDisparity (ctx);
 }

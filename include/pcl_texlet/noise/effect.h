@@ -165,6 +165,11 @@ struct LabStart
   int image_width = 0;
   int image_height = 0;
   double disparity_step_px = 0.0; ///< camera.yaml's disparity_subpixel, 0 if unknown
+  /** \brief The step of the disparity lattice the recordings' depths sit on (z_k = C / (k +
+    * phase), step = 1000 f b / C), 0 when they sit on none or on camera.yaml's own.
+    */
+  double lattice_step_px = 0.0;
+  double lattice_phase = 0.0; ///< that lattice's phase, in steps
 };
 
 /** \brief What the model lab needs in its recordings to test an effect (flags). */

@@ -63,16 +63,38 @@ struct DisparityQuantization
     return {{"step_px", 0.0, SimParameters ().step_px, 0.05}};
   }
 
-  /** \brief The lab starts from the recording's own step (camera.yaml). */
-  static void
-  labStart (const LabStart &facts, double *p, NoSettings &)
+  struct TermSettings
   {
+    double lattice_phase = 0.0; ///< the levels sit at (k + lattice_phase) step_px
+  };
+
+  static std::vector<Field<TermSettings>>
+  termSettings ()
+  {
+    return {{"lattice_phase", "steps", "the levels sit at (k + lattice_phase) step_px: the phase of the depth lattice",
+             ParameterRange::Any, &TermSettings::lattice_phase}};
+  }
+
+  /** \brief The lab starts from the lattice the recordings' depths sit on where it found one
+    * that camera.yaml does not imply (a real Kinect's, section "The disparity lattice" of
+    * docs/model_lab.md), else from the recording's own step (camera.yaml).
+    */
+  static void
+  labStart (const LabStart &facts, double *p, TermSettings &s)
+  {
+    if (facts.lattice_step_px > 0)
+    {
+      p[0] = facts.lattice_step_px;
+      s.lattice_phase = facts.lattice_phase;
+      return;
+    }
     p[0] = facts.disparity_step_px > 0 ? facts.disparity_step_px : SimParameters ().step_px;
+    s.lattice_phase = 0.0;
   }
 
   /** \brief Rounding is applied last, to the bias and independent variance of the other terms. */
   static PCL_TEXLET_HD void
-  transformMoments (const double *p, const NoSettings &, const PixelContext &ctx, double &bias_mm,
+  transformMoments (const double *p, const TermSettings &s, const PixelContext &ctx, double &bias_mm,
                     double &variance_mm2)
   {
     const double step = std::fabs (p[0]);
@@ -90,7 +112,7 @@ struct DisparityQuantization
     // The disparity before rounding: the true one moved by the other terms' bias.
     const double d0 = ctx.fb_px_m * 1000.0 / ctx.true_depth_mm - bias_mm / J;
     double mean_offset = 0, var_px = 0;
-    moments (d0, std::sqrt (variance_mm2) / J, step, mean_offset, var_px);
+    moments (d0 - s.lattice_phase * step, std::sqrt (variance_mm2) / J, step, mean_offset, var_px);
     bias_mm -= J * mean_offset;
     variance_mm2 = J * J * var_px;
   }
@@ -99,10 +121,10 @@ struct DisparityQuantization
     * rounding: the model lab evaluates it per pixel, at each pixel's own sub-step phase.
     */
   static PCL_TEXLET_HD void
-  roundingMoments (const double *p, const NoSettings &, double d0, double sigma, double &mean_offset,
+  roundingMoments (const double *p, const TermSettings &s, double d0, double sigma, double &mean_offset,
                    double &variance)
   {
-    moments (d0, sigma, std::fabs (p[0]), mean_offset, variance);
+    moments (d0 - s.lattice_phase * std::fabs (p[0]), sigma, std::fabs (p[0]), mean_offset, variance);
   }
 
   // --- the moments of a rounded Gaussian -----------------------------------------------------
