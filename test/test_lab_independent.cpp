@@ -95,6 +95,14 @@ TEST (ModelLabIndependentProof, FindsADriftThatScalesDepth)
 {
   pcl_texlet_test::expectFoundIn (generateWalls ("temporal_drift:amplitude=0.01", 551), "temporal_drift", false);
 }
+// Two effects at once, each in the generator's own form: quantisation on the disparity lattice
+// and Herrera's disparity distortion (320 x 240, as for quantisation alone).
+TEST (ModelLabIndependentProof, AddsBothOfTwoHiddenEffects)
+{
+  pcl_texlet_test::expectAutoAddsAll (
+      generateWalls ("disparity_quantization --effect depth_distortion", 591, 320),
+      {"disparity_quantization", "depth_distortion"});
+}
 TEST (ModelLabIndependentProof, NothingSignificantWithoutAHiddenEffect)
 {
   pcl_texlet_test::expectNothingSignificantIn (generateWalls ("", 501));
