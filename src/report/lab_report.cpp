@@ -550,6 +550,16 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
                                            ": measured SD " + fmt (a.ratio_mean[worst], 3) + " x the predicted",
                                        std::fabs (std::log (a.ratio_mean[worst]))});
       }
+      // Single frames: no measured SD, nothing to plot against the covariate.
+      bool measured = which == 1;
+      for (double v : a.ratio_mean)
+        measured = measured || std::isfinite (v);
+      if (!measured)
+      {
+        g << "set xlabel '" << cv.name << " (" << cv.unit << ")'\nset ylabel 'ratio'\nset yrange [0:2]\n"
+          << "plot 1 with lines lc 'black' dt 2 title 'no temporal SD (one frame a pixel)'\nunset yrange\n";
+        continue;
+      }
       g << "set xlabel '" << cv.name << " (" << cv.unit << ")'\n"
         << (which ? "set ylabel 'mm'\n" : "set ylabel 'ratio'\n")
         << "plot '" << file << "' index 0 using 1:2:3 with yerrorlines pt 7 ps 0.5 title 'start', "
@@ -583,8 +593,11 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
       for (const auto &kv : meas)
         d << kv.first << " " << mean (kv.second) << " " << mean (pa[kv.first]) << " " << mean (pb[kv.first]) << "\n";
       d.close ();
-      g << "set xlabel 'frame index'\nset ylabel 'mm at the centre'\n"
-        << "plot '" << file << "' using 1:2 with linespoints pt 7 ps 0.5 title 'measured frame offset', '' using 1:3 "
+      g << "set xlabel 'frame index'\nset ylabel 'mm at the centre'\n";
+      if (meas.empty ()) // single frames: no frame offsets
+        g << "plot 0 with lines lc 'black' dt 2 title 'no frame offsets (one frame a pixel)'\n";
+      else
+        g << "plot '" << file << "' using 1:2 with linespoints pt 7 ps 0.5 title 'measured frame offset', '' using 1:3 "
         << "with lines lw 2 title 'start', '' using 1:4 with lines lw 2 dt 2 title 'final'\n";
     }
     g << "unset multiplot\n";
