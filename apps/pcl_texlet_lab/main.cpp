@@ -24,6 +24,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -44,6 +45,22 @@ texletText (const lab::LabMetrics &m)
   s << std::setprecision (4) << ", texlet NEES P " << m.texlets.nees_p << " (" << m.texlets.ratioP ()
     << " x ideal), N " << m.texlets.nees_n << " (" << m.texlets.ratioN () << " x ideal, " << m.texlets.texlets
     << " texlets)";
+  return s.str ();
+}
+
+/** "sd_rmse x mm, bias_rmse y mm (spatial SD z mm, model w mm)" for the text summary; single
+  * frames have no temporal SD to compare.
+  */
+std::string
+errorsText (const lab::LabMetrics &m)
+{
+  std::ostringstream s;
+  if (std::isfinite (m.sd_rmse_mm))
+    s << "sd_rmse " << m.sd_rmse_mm << " mm";
+  else
+    s << "sd_rmse not measurable (one frame)";
+  s << ", bias_rmse " << m.bias_rmse_mm << " mm (spatial SD " << m.bias_spatial_sd_mm << " mm, model "
+    << m.bias_spatial_sd_pred_mm << " mm)";
   return s.str ();
 }
 
@@ -155,8 +172,7 @@ run (int argc, char **argv)
   lab::writeLabReport (lab, session, report);
   if (!quiet)
   {
-    std::cout << "start (" << model_arg << "): sd_rmse " << session.start_metrics.sd_rmse_mm << " mm, bias_rmse "
-              << session.start_metrics.bias_rmse_mm << " mm, nll " << session.start_metrics.nll
+    std::cout << "start (" << model_arg << "): " << errorsText (session.start_metrics) << ", nll " << session.start_metrics.nll
               << texletText (session.start_metrics) << "\n";
     for (std::size_t k = 0; k < session.candidates.size (); ++k)
     {
@@ -171,8 +187,8 @@ run (int argc, char **argv)
       std::cout << "\n";
     }
     for (const auto &st : session.steps)
-      std::cout << "+ " << st.added << ": sd_rmse " << st.metrics.sd_rmse_mm << " mm, bias_rmse "
-                << st.metrics.bias_rmse_mm << " mm, nll " << st.metrics.nll << texletText (st.metrics) << "\n";
+      std::cout << "+ " << st.added << ": " << errorsText (st.metrics) << ", nll " << st.metrics.nll
+                << texletText (st.metrics) << "\n";
     std::cout << lab::latticeSummary (session.lattice) << "\n";
     std::cout << "skipped frames: " << skipped << "\n";
     std::cout << "report: " << report << "/report.html (" << std::fixed << std::setprecision (1) << elapsed ()

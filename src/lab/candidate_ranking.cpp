@@ -45,11 +45,12 @@ ModelLab::rankCandidates (const NoiseModel &current) const
 
   // Which effects the data can show at all.
   std::vector<Candidate> out;
-  bool any_plane = false, any_edges = false;
+  bool any_plane = false, any_edges = false, repeated = false;
   std::vector<double> projectors;
   for (const auto &r : recordings_)
   {
     any_plane = any_plane || r->plane_scene;
+    repeated = repeated || r->frames >= 2;
     projectors.push_back (r->active_projectors);
     std::size_t near = 0;
     for (std::size_t i = 0; i < r->used.size (); ++i)
@@ -67,7 +68,11 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     const EffectInfo &info = effectInfo (name);
     c.physics = info.physics;
     c.signature = info.signature;
-    if ((info.lab_needs & effects::kNeedsPlaneScene) && !any_plane)
+    // Single frames first: it is the most basic of the limits.
+    if ((info.lab_needs & effects::kNeedsRepeatedFrames) && !repeated)
+      c.applicable = false, c.note = "needs at least 2 frames per pixel to measure temporal noise: it adds variance "
+                                     "only, which single frames cannot tell from an unmodelled bias";
+    else if ((info.lab_needs & effects::kNeedsPlaneScene) && !any_plane)
       c.applicable = false, c.note = "needs a plane scene (meta.yaml scene: plane) to tell a static bias from the surface";
     else if ((info.lab_needs & effects::kNeedsVariedProjectors) && !varied_projectors)
       c.applicable = false, c.note = "every recording has the same number of active projectors";

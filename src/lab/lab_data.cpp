@@ -73,7 +73,9 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
     d->frame_list.push_back (frames);
     d->plane.push_back (m.plane_scene ? 1 : 0);
 
-    // Pixels of the half with at least two samples in it: mean and count.
+    // Pixels of the half with at least two samples in it (one where the half has one frame, a
+    // single-frame set: only the pixels' means, the static part, carry information): mean and count.
+    const int min_samples = frames.size () >= 2 ? 2 : 1;
     std::vector<float> mean (n, 0.0f), J (n, 0.0f);
     std::vector<std::uint16_t> count (n, 0);
     std::vector<std::uint8_t> member (n, 0);
@@ -95,7 +97,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
             ++c;
           }
         }
-        if (c < 2)
+        if (c < min_samples)
           continue;
         member[i] = 1;
         count[i] = static_cast<std::uint16_t> (c);
@@ -323,6 +325,9 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         continue;
       sparse (&col_w[static_cast<std::size_t> (u) * nb], nb, bins_first, c.noise.bins);
       sparse (&col_q[static_cast<std::size_t> (u) * nq], nq, qbins_first, c.noise.qbins);
+      // Pixels of one sample are their own mean: an offset of only such pixels is 0, no datum.
+      if (c.noise.bins.empty ())
+        continue;
       d->cols.push_back (c);
     }
     std::size_t centre = 0;
@@ -349,6 +354,8 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
       f.count = Nt[k];
       sparse (&frame_w[k * nb], nb, bins_first, f.noise.bins);
       sparse (&frame_q[k * nq], nq, qbins_first, f.noise.qbins);
+      if (f.noise.bins.empty ())
+        continue;
       d->frames.push_back (f);
     }
   }

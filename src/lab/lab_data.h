@@ -1,6 +1,7 @@
 /*
  * pcl_texlet model lab (internal): the aggregates of one half of the recordings that the fits and
- * scores work on. Pixels with at least two samples in the half, their covariate bins, and the
+ * scores work on. Pixels with at least two samples in the half (one in single-frame sets, whose
+ * within, column and frame parts are then empty), their covariate bins, and the
  * mean offsets of columns and frames (the parts of the NLL in model_lab.h); buildData makes
  * them from the measured recordings.
  */

@@ -29,6 +29,53 @@ namespace lab
 
 using namespace detail;
 
+namespace
+{
+
+/** LabMetrics::bias_spatial_sd_mm and its prediction, from the pixels' residuals \a e and the
+  * predicted variances of their means \a mean_var (one per PixelRow of \a d).
+  */
+void
+spatialSd (const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
+           const std::vector<float> &e, const std::vector<float> &mean_var, double &measured, double &predicted)
+{
+  const int R = 3; // a 7 x 7 window: a few pixels, far below the scale of a smooth bias (a map's cells)
+  const int min_neighbours = 4;
+  std::vector<std::vector<int>> row_at (recs.size ());
+  for (std::size_t r = 0; r < recs.size (); ++r)
+    row_at[r].assign (static_cast<std::size_t> (recs[r]->width) * recs[r]->height, -1);
+  for (std::size_t k = 0; k < d.px.size (); ++k)
+    row_at[d.px[k].rec][d.px[k].index] = static_cast<int> (k);
+  double s2 = 0, sv = 0, count = 0;
+  for (std::size_t k = 0; k < d.px.size (); ++k)
+  {
+    const PixelRow &p = d.px[k];
+    const RecordingMeasurement &m = *recs[p.rec];
+    const int u = static_cast<int> (p.index % m.width), v = static_cast<int> (p.index / m.width);
+    double sum = 0, n = 0;
+    for (int vv = std::max (0, v - R); vv <= std::min (m.height - 1, v + R); ++vv)
+      for (int uu = std::max (0, u - R); uu <= std::min (m.width - 1, u + R); ++uu)
+      {
+        const int j = row_at[p.rec][static_cast<std::size_t> (vv) * m.width + uu];
+        if (j < 0 || j == static_cast<int> (k))
+          continue;
+        sum += e[j];
+        n += 1;
+      }
+    if (n < min_neighbours)
+      continue;
+    // For white noise Var (e - mean of n others) = sigma^2 (1 + 1 / n).
+    const double r = e[k] - sum / n;
+    s2 += r * r * n / (n + 1);
+    sv += mean_var[k];
+    count += 1;
+  }
+  measured = count > 0 ? std::sqrt (s2 / count) : kNaN;
+  predicted = count > 0 ? std::sqrt (sv / count) : kNaN;
+}
+
+} // namespace
+
 ModelLab::ModelLab (const LabSettings &settings) : settings_ (settings) {}
 
 ModelLab::~ModelLab () = default;
@@ -61,7 +108,8 @@ ModelLab::data (Half half) const
   if (!slot)
     slot = buildData (recordings_, half, splitsFrames ());
   if (slot->px.empty ())
-    throw pcl::BadArgumentException ("model lab: no pixel has two valid samples in each half of the data");
+    throw pcl::BadArgumentException ("model lab: no pixel has enough valid samples in each half of the data "
+                                     "(two, or one in recordings of one frame)");
   return *slot;
 }
 
@@ -131,8 +179,9 @@ ModelLab::evaluate (const NoiseModel &model, Half half, PixelErrors *pixels) con
     for (auto *v : {&pixels->sd_pred, &pixels->sd_meas, &pixels->mean_pred, &pixels->mean_meas})
       v->assign (P, 0.0f);
   }
-  double sd2 = 0, b2 = 0, lp = 0, in1 = 0, in2 = 0, count = 0;
-#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : sd2, b2, lp, in1, in2, count) num_threads(settings_.threads > 0 ? settings_.threads : omp_get_max_threads ())
+  std::vector<float> residual (P), mean_var (P); // measured minus predicted mean; predicted variance of the mean
+  double sd2 = 0, sd_count = 0, b2 = 0, lp = 0, in1 = 0, in2 = 0, count = 0;
+#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : sd2, sd_count, b2, lp, in1, in2, count) num_threads(settings_.threads > 0 ? settings_.threads : omp_get_max_threads ())
   for (int k = 0; k < P; ++k)
   {
     const PixelRow &p = d.px[k];
@@ -141,8 +190,13 @@ ModelLab::evaluate (const NoiseModel &model, Half half, PixelErrors *pixels) con
     const NoiseMoments mo = model.moments (ctx);
     const double var = floorVar (model, mo.variance_mm2), col = mo.column_variance_mm2;
     const double sd_pred = std::sqrt (var + col + p.J * p.J * drift_var[p.rec]);
-    const double sd_meas = std::sqrt (p.ss_total / (p.n - 1));
-    sd2 += (sd_pred - sd_meas) * (sd_pred - sd_meas);
+    // One sample (single frames): no temporal SD to compare.
+    const double sd_meas = p.n > 1 ? std::sqrt (p.ss_total / (p.n - 1)) : kNaN;
+    if (p.n > 1)
+    {
+      sd2 += (sd_pred - sd_meas) * (sd_pred - sd_meas);
+      sd_count += 1;
+    }
     double surface_disparity = d.plane[p.rec] ? s.planes[p.rec].dot (Eigen::Vector3d (1.0, p.x, p.y))
                                               : 1000.0 * m.fb () / m.surface_mm[p.index];
     const double mu = predictedMeanMm (surface_disparity, 1000.0 * m.fb (), mo.bias_mm, p.J);
@@ -154,6 +208,8 @@ ModelLab::evaluate (const NoiseModel &model, Half half, PixelErrors *pixels) con
       pixels->mean_pred[k] = static_cast<float> (mu), pixels->mean_meas[k] = p.mean_mm;
     }
     const double V = var + col;
+    residual[k] = static_cast<float> (e);
+    mean_var[k] = static_cast<float> (V / p.n);
     lp += 0.5 * (p.n - 1) * std::log (kTwoPi * var) + p.ss_within / (2 * var);
     lp += 0.5 * std::log (kTwoPi * V / p.n) + p.n * e * e / (2 * V);
     const double sigma = std::sqrt (V);
@@ -170,7 +226,8 @@ ModelLab::evaluate (const NoiseModel &model, Half half, PixelErrors *pixels) con
   }
   out.pixels = P;
   out.samples = d.samples;
-  out.sd_rmse_mm = std::sqrt (sd2 / P);
+  out.sd_rmse_mm = sd_count > 0 ? std::sqrt (sd2 / sd_count) : kNaN;
+  spatialSd (d, recordings_, residual, mean_var, out.bias_spatial_sd_mm, out.bias_spatial_sd_pred_mm);
   out.bias_rmse_mm = std::sqrt (b2 / P);
   out.nll = (L + lp) / d.samples;
   out.within_1sigma = count > 0 ? in1 / count : 0;

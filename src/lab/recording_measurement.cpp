@@ -155,7 +155,9 @@ measureRecording (RecordingReader &reader, const std::string &name, const std::s
     throw pcl::BadArgumentException ("recording '" + name + "': it has no frames");
 
   // Temporal mean and SD of the valid frames.
-  const int min_valid = std::max (2, static_cast<int> (std::ceil (settings.min_valid_share * m->frames)));
+  // A recording of one frame is a set of single frames: a pixel is used where it has its reading.
+  const int min_valid =
+      std::min (m->frames, std::max (2, static_cast<int> (std::ceil (settings.min_valid_share * m->frames))));
   m->valid_frames.assign (n, 0);
   m->mean_mm.assign (n, 0.0f);
   m->sd_mm.assign (n, 0.0f);
@@ -189,7 +191,7 @@ measureRecording (RecordingReader &reader, const std::string &name, const std::s
         if (z > 0)
           ss += (z - mean) * (z - mean);
       }
-      m->sd_mm[i] = c > 1 ? static_cast<float> (std::sqrt (ss / (c - 1))) : 0.0f;
+      m->sd_mm[i] = c > 1 ? static_cast<float> (std::sqrt (ss / (c - 1))) : std::numeric_limits<float>::quiet_NaN ();
       m->used[i] = c >= min_valid ? 1 : 0;
     }
   for (std::size_t i = 0; i < n; ++i)
@@ -340,7 +342,8 @@ measureRecording (RecordingReader &reader, const std::string &name, const std::s
     }
   if (m->usedCount () == 0)
     throw pcl::BadArgumentException ("recording '" + name + "': no pixel has " + std::to_string (min_valid) +
-                                     " valid frames of " + std::to_string (m->frames));
+                                     " valid frame" + (min_valid > 1 ? "s" : "") + " of " +
+                                     std::to_string (m->frames) + " and a surface");
   return m;
 }
 

@@ -39,10 +39,20 @@ say (const ModelLab &lab, const std::string &line)
     lab.settings ().progress (line);
 }
 
+/** A number, or null where it is not measurable (NaN is not JSON). */
+nlohmann::json
+number (double x)
+{
+  return std::isfinite (x) ? nlohmann::json (x) : nlohmann::json (nullptr);
+}
+
 nlohmann::json
 metricsJson (const LabMetrics &m)
 {
-  nlohmann::json j = {{"sd_rmse_mm", m.sd_rmse_mm},        {"bias_rmse_mm", m.bias_rmse_mm},
+  // sd_rmse_mm is null on single-frame sets (no temporal SD).
+  nlohmann::json j = {{"sd_rmse_mm", number (m.sd_rmse_mm)}, {"bias_rmse_mm", m.bias_rmse_mm},
+                      {"bias_spatial_sd_mm", number (m.bias_spatial_sd_mm)},
+                      {"bias_spatial_sd_pred_mm", number (m.bias_spatial_sd_pred_mm)},
                       {"nll", m.nll},                      {"within_1sigma", m.within_1sigma},
                       {"within_2sigma", m.within_2sigma},  {"pixels", m.pixels},
                       {"samples", m.samples}};
@@ -130,6 +140,13 @@ fmt (double x, int precision = 4)
   return s.str ();
 }
 
+/** sd_rmse_mm for the page: "not measurable" on single frames (NaN). */
+std::string
+sdText (double sd_rmse_mm)
+{
+  return std::isfinite (sd_rmse_mm) ? fmt (sd_rmse_mm) : "not measurable (one frame)";
+}
+
 std::string
 baseName (const std::string &path)
 {
@@ -183,7 +200,7 @@ covariateCurve (const ModelLab &lab, const std::vector<PixelComparison> &cmp, co
   if (!(hi >= lo))
     return c;
   const int nb = discrete ? static_cast<int> (hi - lo + 1.5) : 16;
-  std::vector<double> n (nb, 0), s1 (nb, 0), s2 (nb, 0), b1 (nb, 0), b2 (nb, 0), xs (nb, 0);
+  std::vector<double> n (nb, 0), nr (nb, 0), s1 (nb, 0), s2 (nb, 0), b1 (nb, 0), b2 (nb, 0), xs (nb, 0);
   for (std::size_t r = 0; r < recs.size (); ++r)
     for (std::size_t i = 0; i < recs[r]->used.size (); ++i)
     {
@@ -196,8 +213,12 @@ covariateCurve (const ModelLab &lab, const std::vector<PixelComparison> &cmp, co
       const double bias = recs[r]->mean_mm[i] - cmp[r].mean_pred[i];
       n[b] += 1;
       xs[b] += v;
-      s1[b] += ratio;
-      s2[b] += ratio * ratio;
+      if (std::isfinite (ratio)) // single frames: no measured SD
+      {
+        nr[b] += 1;
+        s1[b] += ratio;
+        s2[b] += ratio * ratio;
+      }
       b1[b] += bias;
       b2[b] += bias * bias;
     }
@@ -205,10 +226,10 @@ covariateCurve (const ModelLab &lab, const std::vector<PixelComparison> &cmp, co
   {
     if (n[b] < 5)
       continue;
-    const double m = s1[b] / n[b], bm = b1[b] / n[b];
+    const double m = nr[b] > 0 ? s1[b] / nr[b] : std::numeric_limits<double>::quiet_NaN (), bm = b1[b] / n[b];
     c.x.push_back (xs[b] / n[b]);
     c.ratio_mean.push_back (m);
-    c.ratio_se.push_back (std::sqrt (std::max (0.0, s2[b] / n[b] - m * m) / n[b]));
+    c.ratio_se.push_back (nr[b] > 0 ? std::sqrt (std::max (0.0, s2[b] / nr[b] - m * m) / nr[b]) : m);
     c.bias_mean.push_back (bm);
     c.bias_se.push_back (std::sqrt (std::max (0.0, b2[b] / n[b] - bm * bm) / n[b]));
   }
@@ -398,18 +419,22 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
       {
         for (int bx = 0; bx < m.width / f; ++bx)
         {
-          double sr = 0, sb = 0, n = 0;
+          double sr = 0, nr = 0, sb = 0, n = 0;
           for (int y = by * f; y < (by + 1) * f; ++y)
             for (int x = bx * f; x < (bx + 1) * f; ++x)
             {
               const std::size_t i = static_cast<std::size_t> (y) * m.width + x;
               if (!m.used[i] || !(cmp[r].sd_pred[i] > 0))
                 continue;
-              sr += m.sd_mm[i] / cmp[r].sd_pred[i];
+              if (std::isfinite (m.sd_mm[i])) // single frames: no measured SD
+              {
+                sr += m.sd_mm[i] / cmp[r].sd_pred[i];
+                nr += 1;
+              }
               sb += m.mean_mm[i] - cmp[r].mean_pred[i];
               n += 1;
             }
-          ra << (n > 0 ? fmt (std::max (0.05, sr / n)) : "NaN") << " ";
+          ra << (nr > 0 ? fmt (std::max (0.05, sr / nr)) : "NaN") << " ";
           bi << (n > 0 ? fmt (sb / n) : "NaN") << " ";
           if (n > 0)
             all_bias.push_back (std::fabs (sb / n));
@@ -427,7 +452,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
               for (int x = u0; x < std::min (m.width, u0 + 32); ++x)
               {
                 const std::size_t i = static_cast<std::size_t> (y) * m.width + x;
-                if (!m.used[i] || !(cmp[r].sd_pred[i] > 0))
+                if (!m.used[i] || !(cmp[r].sd_pred[i] > 0) || !std::isfinite (m.sd_mm[i]))
                   continue;
                 sr += std::log (m.sd_mm[i] / cmp[r].sd_pred[i]);
                 sb += m.mean_mm[i] - cmp[r].mean_pred[i];
@@ -525,6 +550,16 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
                                            ": measured SD " + fmt (a.ratio_mean[worst], 3) + " x the predicted",
                                        std::fabs (std::log (a.ratio_mean[worst]))});
       }
+      // Single frames: no measured SD, nothing to plot against the covariate.
+      bool measured = which == 1;
+      for (double v : a.ratio_mean)
+        measured = measured || std::isfinite (v);
+      if (!measured)
+      {
+        g << "set xlabel '" << cv.name << " (" << cv.unit << ")'\nset ylabel 'ratio'\nset yrange [0:2]\n"
+          << "plot 1 with lines lc 'black' dt 2 title 'no temporal SD (one frame a pixel)'\nunset yrange\n";
+        continue;
+      }
       g << "set xlabel '" << cv.name << " (" << cv.unit << ")'\n"
         << (which ? "set ylabel 'mm'\n" : "set ylabel 'ratio'\n")
         << "plot '" << file << "' index 0 using 1:2:3 with yerrorlines pt 7 ps 0.5 title 'start', "
@@ -558,8 +593,11 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
       for (const auto &kv : meas)
         d << kv.first << " " << mean (kv.second) << " " << mean (pa[kv.first]) << " " << mean (pb[kv.first]) << "\n";
       d.close ();
-      g << "set xlabel 'frame index'\nset ylabel 'mm at the centre'\n"
-        << "plot '" << file << "' using 1:2 with linespoints pt 7 ps 0.5 title 'measured frame offset', '' using 1:3 "
+      g << "set xlabel 'frame index'\nset ylabel 'mm at the centre'\n";
+      if (meas.empty ()) // single frames: no frame offsets
+        g << "plot 0 with lines lc 'black' dt 2 title 'no frame offsets (one frame a pixel)'\n";
+      else
+        g << "plot '" << file << "' using 1:2 with linespoints pt 7 ps 0.5 title 'measured frame offset', '' using 1:3 "
         << "with lines lw 2 title 'start', '' using 1:4 with lines lw 2 dt 2 title 'final'\n";
     }
     g << "unset multiplot\n";
@@ -574,7 +612,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
   // --- report.html
   std::ostringstream h;
   auto metricsRow = [&] (const std::string &what, const LabMetrics &m) {
-    h << "<tr><td>" << escape (what) << "</td><td>" << fmt (m.sd_rmse_mm) << "</td><td>" << fmt (m.bias_rmse_mm)
+    h << "<tr><td>" << escape (what) << "</td><td>" << sdText (m.sd_rmse_mm) << "</td><td>" << fmt (m.bias_rmse_mm)
       << "</td><td>" << fmt (m.nll) << "</td><td>" << fmt (100 * m.within_1sigma, 3) << " %</td><td>"
       << fmt (100 * m.within_2sigma, 3) << " %</td><td>" << fmt (m.texlets.nees_p, 3) << " ("
       << fmt (m.texlets.ratioP (), 3) << " x; median " << fmt (m.texlets.medianRatioP (), 3) << " x)</td><td>"
@@ -654,7 +692,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
         << " % of the " << c.effect_shows_in << " error's mean square (RMS " << fmt (c.error_before_mm, 3) << " to "
         << fmt (c.error_after_mm, 3) << " mm over " << fmt (100.0 * c.effect_share, 2) << " % of pixels)</td><td"
         << (c.significant ? " class=\"sig\">yes" : (c.statistically_significant ? ">no (too small)" : ">no"))
-        << "</td><td>" << fmt (c.metrics.sd_rmse_mm) << "</td><td>"
+        << "</td><td>" << sdText (c.metrics.sd_rmse_mm) << "</td><td>"
         << fmt (c.metrics.bias_rmse_mm) << "</td><td>" << fmt (c.metrics.nll) << "</td>";
     else
       h << "<td colspan=\"7\">not testable: " << escape (c.note) << "</td>";

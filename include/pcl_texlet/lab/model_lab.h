@@ -4,7 +4,10 @@
  *
  * The data are split into two halves (even and odd frames; for recordings of fewer than four
  * frames, a checkerboard of 32 px blocks). A model is fitted on the first half and scored on the
- * second. The score is the Gaussian negative log-likelihood per depth sample, decomposed into
+ * second. Recordings of one frame (single-frame sets, e.g. calibration walls) have one sample a
+ * pixel: their within, column and frame parts are empty and only the static part is left, so the
+ * variance parameters keep the model's values (no temporal contrast to fit them on) and effects
+ * that add variance only are not testable (docs/model_lab.md, "Few frames"). The score is the Gaussian negative log-likelihood per depth sample, decomposed into
  * parts the effects show in:
  *   - within: each sample's deviation from its pixel's mean, its frame's mean and its column's
  *     mean in that frame, against the model's independent variance;
@@ -56,8 +59,22 @@ enum class Half
 /** \brief How well a model describes the samples of one half. */
 struct LabMetrics
 {
-  double sd_rmse_mm = 0;    ///< RMS over pixels of predicted minus measured temporal SD
+  /** \brief RMS over pixels of predicted minus measured temporal SD, over the pixels with at
+    * least two samples; NaN when none has (single-frame sets: not measurable).
+    */
+  double sd_rmse_mm = 0;
   double bias_rmse_mm = 0;  ///< RMS over pixels of measured minus predicted bias (mean - surface)
+  /** \brief The spatial SD of the bias residual after removing its smooth part: each pixel's
+    * residual (measured minus predicted mean) minus the mean of its neighbours' within 3 px,
+    * RMS, scaled by k / (k + 1) for k neighbours so that white noise gives its own SD. What a
+    * single frame shows of the noise (the SD of a pixel's mean where pixels have several
+    * samples); compare with bias_spatial_sd_pred_mm.
+    */
+  double bias_spatial_sd_mm = 0;
+  /** \brief The model's prediction of bias_spatial_sd_mm: the RMS over the same pixels of the
+    * predicted SD of a pixel's mean, sqrt (variance / n).
+    */
+  double bias_spatial_sd_pred_mm = 0;
   double nll = 0;           ///< Gaussian NLL per depth sample (see the file comment)
   double within_1sigma = 0; ///< share of samples within 1 sigma of the model's mean
   double within_2sigma = 0; ///< share of samples within 2 sigma

@@ -1,7 +1,8 @@
 /*
  * pcl_texlet model lab, step 1 (measure): per-pixel statistics of a recording over its frames.
  *
- * Per pixel: temporal mean and SD (pixels with too few valid frames are left out and counted),
+ * Per pixel: temporal mean and SD (pixels with too few valid frames are left out and counted;
+ * recordings of one frame are accepted, their SD is undefined, NaN),
  * the reference surface (a robust plane fit of the mean for plane scenes, a local plane fit
  * otherwise), the bias (mean minus surface), and the covariates the effects show against:
  * radius, depth, incidence angle, column, row, disparity sub-step phase, frame index (for the
@@ -31,7 +32,9 @@ namespace lab
 /** \brief Options of the measurement. */
 struct MeasurementSettings
 {
-  /** \brief Fewest valid frames a pixel needs, as a share of the recording's frames (at least 2). */
+  /** \brief Fewest valid frames a pixel needs, as a share of the recording's frames (at least 2,
+    * at most the recording's frames: a single-frame recording uses every pixel with a reading).
+    */
   double min_valid_share = 0.6;
   /** \brief A depth jump between neighbours larger than this share of the depth is an edge. */
   double edge_jump_share = 0.03;
@@ -60,7 +63,10 @@ struct RecordingMeasurement
   std::vector<std::uint8_t> used;   ///< 1 where the pixel has enough valid frames and a surface
   std::vector<std::uint16_t> valid_frames; ///< valid frames per pixel
   std::vector<float> mean_mm;       ///< temporal mean of the valid frames
-  std::vector<float> sd_mm;         ///< temporal SD (n - 1) of the valid frames
+  /** \brief Temporal SD (n - 1) of the valid frames; NaN where a pixel has one valid frame (a
+    * single frame shows no temporal SD; single-frame recordings have it NaN everywhere).
+    */
+  std::vector<float> sd_mm;
   std::vector<float> surface_mm;    ///< reference surface depth (the noise-free depth estimate)
   std::vector<float> bias_mm;       ///< mean minus surface
   std::vector<float> cos_incidence; ///< cosine of the angle between surface normal and viewing ray

@@ -179,7 +179,11 @@ enum LabNeeds : unsigned
   kNeedsPlaneScene = 1u,       ///< a plane scene, to tell a static bias from the surface
   kNeedsVariedProjectors = 2u, ///< recordings with different numbers of active projectors
   kNeedsFrameSplit = 4u,       ///< enough frames to fit on some and score on others
-  kNeedsDepthEdges = 8u        ///< depth edges in the image
+  kNeedsDepthEdges = 8u,       ///< depth edges in the image
+  /** \brief Two or more frames of a pixel: the effect adds variance only, which one frame of a
+    * pixel cannot tell from an unmodelled bias.
+    */
+  kNeedsRepeatedFrames = 16u
 };
 
 /** \brief One pixel as the simulator's generative hooks see it (the static maps' phase). */

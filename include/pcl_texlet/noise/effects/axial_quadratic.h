@@ -50,6 +50,8 @@ struct AxialQuadratic
 
   // --- the noise model's term ----------------------------------------------------------------
 
+  static constexpr unsigned kLabNeeds = kNeedsRepeatedFrames;
+
   /** \brief The lab starts from the simulator's nominal SD. */
   static std::vector<TermParameter>
   termParameters ()

@@ -72,6 +72,8 @@ struct IncidenceAngle
 
   // --- the noise model's term ----------------------------------------------------------------
 
+  static constexpr unsigned kLabNeeds = kNeedsRepeatedFrames;
+
   static std::vector<TermParameter>
   termParameters ()
   {

@@ -91,7 +91,7 @@ struct Interference
 
   // --- the noise model's term ----------------------------------------------------------------
 
-  static constexpr unsigned kLabNeeds = kNeedsVariedProjectors;
+  static constexpr unsigned kLabNeeds = kNeedsVariedProjectors | kNeedsRepeatedFrames;
 
   static std::vector<TermParameter>
   termParameters ()

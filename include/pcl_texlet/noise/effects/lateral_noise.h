@@ -55,7 +55,7 @@ struct LateralNoise
   // --- the noise model's term ----------------------------------------------------------------
 
   static constexpr bool kScaledByFactors = false; // the other side of the edge, not correlation noise
-  static constexpr unsigned kLabNeeds = kNeedsDepthEdges;
+  static constexpr unsigned kLabNeeds = kNeedsDepthEdges | kNeedsRepeatedFrames;
 
   static std::vector<TermParameter>
   termParameters ()

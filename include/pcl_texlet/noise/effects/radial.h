@@ -59,6 +59,8 @@ struct Radial
 
   // --- the noise model's term ----------------------------------------------------------------
 
+  static constexpr unsigned kLabNeeds = kNeedsRepeatedFrames;
+
   struct TermSettings
   {
     double reference_radius_px = SimParameters ().reference_radius_px; ///< r_ref, pixels

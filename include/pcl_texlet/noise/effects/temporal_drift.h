@@ -59,7 +59,7 @@ struct TemporalDrift
   // --- the noise model's term ----------------------------------------------------------------
 
   static constexpr bool kFrameDependent = true;
-  static constexpr unsigned kLabNeeds = kNeedsFrameSplit;
+  static constexpr unsigned kLabNeeds = kNeedsFrameSplit | kNeedsRepeatedFrames;
 
   static std::vector<TermParameter>
   termParameters ()

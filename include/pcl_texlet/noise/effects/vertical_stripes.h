@@ -98,7 +98,7 @@ struct VerticalStripes
   // --- the noise model's term ----------------------------------------------------------------
 
   static constexpr bool kScaledByFactors = false; // an offset added after the correlation
-  static constexpr unsigned kLabNeeds = kNeedsFrameSplit;
+  static constexpr unsigned kLabNeeds = kNeedsFrameSplit | kNeedsRepeatedFrames;
 
   static std::vector<TermParameter>
   termParameters ()
