@@ -61,17 +61,22 @@ run (const std::string &cmdline)
 class LabApp : public ::testing::Test
 {
 protected:
-  /** Three small wall recordings with 1, 2 and 3 active projectors (interference on). */
+  /** Three small wall recordings with 3, 1 and 2 active projectors (interference on). Not 1, 2, 3:
+    * with the projectors rising with the distance, the refitted depth polynomial takes up most of
+    * the interference, and what is left is detectable but too small to matter (section 4 of
+    * docs/model_lab.md).
+    */
   static void
   SetUpTestSuite ()
   {
     workFolder () = std::make_unique<pcl_texlet_test::TempDir> ("lab_app");
     const double distances[3] = {1.0, 1.6, 2.2};
+    const int projectors[3] = {3, 1, 2};
     for (int k = 0; k < 3; ++k)
     {
       std::ostringstream cmd;
       cmd << SIM_APP << " --width 160 --height 120 --frames 12 --distance " << distances[k] << " --tilt-y " << 10 * k
-          << " --projectors " << k + 1 << " --effect interference --seed " << 7 + k << " -q "
+          << " --projectors " << projectors[k] << " --effect interference --seed " << 7 + k << " -q "
           << (workDir () / ("wall_" + std::to_string (k))).string ();
       const Result r = run (cmd.str ());
       ASSERT_EQ (r.code, 0) << r.err;
@@ -234,7 +239,7 @@ TEST_F (LabApp, ExtractorGivesTheModelTheRecordingsProjectorsAndFb)
   // As the lab fits a model, pcl_texlet_extract must evaluate it with the recording's f b
   // (camera.yaml) and active projectors (meta.yaml). Two models whose covariances scale in
   // closed form with one of them each (Analytic covariances are linear in the pixels' variances).
-  const fs::path wall = workDir () / "wall_2"; // 3 projectors, 160 x 120
+  const fs::path wall = workDir () / "wall_0"; // 3 projectors, 160 x 120
   const pcl::texlet::CameraInfo info = pcl::texlet::loadCameraInfoYaml ((wall / "camera.yaml").string ());
   const pcl::texlet::PixelContext context =
       pcl::texlet::lab::recordingNoiseContext (info, pcl::texlet::lab::readMetaYaml (wall.string ()), wall.string ());

@@ -189,9 +189,9 @@ TEST (EffectTerms, TheLabReadsPropertiesNotNames)
     EXPECT_EQ (effectInfo (name).quantises, t->quantises ()) << name;
   }
   EXPECT_EQ (effectInfo ("depth_distortion").lab_needs, unsigned (effects::kNeedsPlaneScene));
-  EXPECT_EQ (effectInfo ("interference").lab_needs, unsigned (effects::kNeedsVariedProjectors));
-  EXPECT_EQ (effectInfo ("vertical_stripes").lab_needs, unsigned (effects::kNeedsFrameSplit));
-  EXPECT_EQ (effectInfo ("lateral_noise").lab_needs, unsigned (effects::kNeedsDepthEdges));
+  EXPECT_EQ (effectInfo ("interference").lab_needs, unsigned (effects::kNeedsVariedProjectors | effects::kNeedsRepeatedFrames));
+  EXPECT_EQ (effectInfo ("vertical_stripes").lab_needs, unsigned (effects::kNeedsFrameSplit | effects::kNeedsRepeatedFrames));
+  EXPECT_EQ (effectInfo ("lateral_noise").lab_needs, unsigned (effects::kNeedsDepthEdges | effects::kNeedsRepeatedFrames));
 
   // The grid's bias basis reproduces its bias: bias = -J sum_k w_k offset_k.
   EffectTermOf<effects::DepthDistortion> grid ({}, {640, 480, 3, 3});
@@ -221,11 +221,40 @@ TEST (EffectTerms, TheLabReadsPropertiesNotNames)
   facts.disparity_step_px = 0;
   q->setLabStart (facts);
   EXPECT_EQ (q->parameters (), std::vector<double> ({0.125}));
+  EXPECT_EQ (q->settings ()[0], (std::pair<std::string, double> ("lattice_phase", 0.0)));
+  // ... or the lattice the depths sit on, with its phase: its levels at (k + phase) step.
+  facts.lattice_step_px = 0.11;
+  facts.lattice_phase = 0.3;
+  q->setLabStart (facts);
+  EXPECT_EQ (q->parameters (), std::vector<double> ({0.11}));
+  EXPECT_EQ (q->settings ()[0], (std::pair<std::string, double> ("lattice_phase", 0.3)));
+  double offset_on_lattice = 0, offset_on_zero = 0, var = 0;
+  q->roundingMoments ((40 + 0.3) * 0.11 + 0.01, 1e-9, offset_on_lattice, var);
+  EXPECT_NEAR (offset_on_lattice, -0.01, 1e-12);
+  const NoiseTerm::Ptr q0 = makeNoiseTerm ("disparity_quantization");
+  q0->setParameters ({0.125});
+  q0->roundingMoments (40 * 0.125 + 0.01, 1e-9, offset_on_zero, var);
+  EXPECT_NEAR (offset_on_zero, -0.01, 1e-12);
+  facts.lattice_step_px = 0;
+  facts.lattice_phase = 0;
   const NoiseTerm::Ptr g = makeNoiseTerm ("depth_distortion");
   g->setLabStart (facts);
   EXPECT_EQ (g->settings ()[0], (std::pair<std::string, double> ("image_width", 320)));
   EXPECT_EQ (g->settings ()[1], (std::pair<std::string, double> ("image_height", 240)));
   EXPECT_EQ (g->parameters (), std::vector<double> (17 * 13, 0.0));
+  // The map's shape along depth: 1 at 1.5 m; a depth scale map grows as 1500 / z; Herrera's decay
+  // exp(-alpha1 (d - d(1.5 m))), d in px at 640 px width.
+  EXPECT_EQ (g->linearBiasShape (3000, 43.5), 1.0);
+  g->setSetting ("depth_power", 1);
+  EXPECT_NEAR (g->linearBiasShape (3000, 43.5), 0.5, 1e-12);
+  g->setSetting ("depth_power", 0);
+  g->setSetting ("decay_per_px", 0.02);
+  EXPECT_NEAR (g->linearBiasShape (1500, 21.75), 1.0, 1e-12);
+  EXPECT_NEAR (g->linearBiasShape (750, 21.75), std::exp (-0.02 * (29.0 - 14.5) * 2.0), 1e-12);
+  EXPECT_THROW (g->setSetting ("depth_power", 2), pcl::BadArgumentException);
+  g->setSetting ("decay_per_px", 0.0);
+  EXPECT_FALSE (g->linearBiasShapeSearch ().empty ());
+  EXPECT_TRUE (makeNoiseTerm ("radial")->linearBiasShapeSearch ().empty ());
   const NoiseTerm::Ptr a = makeNoiseTerm ("axial_quadratic");
   a->setLabStart (facts);
   EXPECT_EQ (a->parameters (), std::vector<double> ({0.02}));
