@@ -113,10 +113,3 @@ TEST (ModelLabProof, NothingSignificantWithoutAHiddenEffect)
   pcl_texlet_test::expectNothingSignificantIn (simulatePlanes ({}, 17));
 }
 
-// Two effects at once: the lab adds the best significant candidate and ranks again (--auto 2).
-TEST (ModelLabProof, AddsBothOfTwoHiddenEffects)
-{
-  pcl_texlet_test::expectAutoAddsAll (simulatePlanes ({"disparity_quantization", "depth_distortion"}, 18),
-                                      {"disparity_quantization", "depth_distortion"});
-}
-

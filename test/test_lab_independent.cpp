@@ -73,6 +73,14 @@ TEST (ModelLabIndependentProof, FindsDisparityQuantization)
 {
   pcl_texlet_test::expectFoundIn (generateWalls ("disparity_quantization", 561, 320), "disparity_quantization", false);
 }
+// A sensor whose depth lattice is 1.15 times what camera.yaml implies (a real Kinect's is about
+// 1.085 times, docs/model_lab.md "The disparity lattice"): the term starts from the lattice the
+// depths sit on. From camera.yaml's step it was not among the first three candidates.
+TEST (ModelLabIndependentProof, FindsDisparityQuantizationOnALatticeOfItsOwn)
+{
+  pcl_texlet_test::expectFoundIn (generateWalls ("disparity_quantization:lattice_scale=1.15", 601, 320),
+                                  "disparity_quantization", false);
+}
 TEST (ModelLabIndependentProof, FindsVerticalStripes)
 {
   pcl_texlet_test::expectFoundIn (generateWalls ("vertical_stripes", 531), "vertical_stripes", false);
@@ -94,14 +102,6 @@ TEST (ModelLabIndependentProof, FindsInterference)
 TEST (ModelLabIndependentProof, FindsADriftThatScalesDepth)
 {
   pcl_texlet_test::expectFoundIn (generateWalls ("temporal_drift:amplitude=0.01", 551), "temporal_drift", false);
-}
-// Two effects at once, each in the generator's own form: quantisation on the disparity lattice
-// and Herrera's disparity distortion (320 x 240, as for quantisation alone).
-TEST (ModelLabIndependentProof, AddsBothOfTwoHiddenEffects)
-{
-  pcl_texlet_test::expectAutoAddsAll (
-      generateWalls ("disparity_quantization --effect depth_distortion", 591, 320),
-      {"disparity_quantization", "depth_distortion"});
 }
 TEST (ModelLabIndependentProof, NothingSignificantWithoutAHiddenEffect)
 {

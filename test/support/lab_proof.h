@@ -10,7 +10,6 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -74,45 +73,6 @@ expectFoundIn (const std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPt
   const double before = shows_in_bias ? run.before.bias_rmse_mm : run.before.sd_rmse_mm;
   const double after = shows_in_bias ? run.after.bias_rmse_mm : run.after.sd_rmse_mm;
   EXPECT_LE (after, max_ratio * before) << (shows_in_bias ? "bias_rmse_mm" : "sd_rmse_mm");
-}
-
-/** \brief With the effects \a hidden hidden at once, the lab adding the best significant
-  * candidate and ranking again (pcl_texlet_lab --auto N, N = the number hidden) must add exactly
-  * them, and bring both the SD and the bias error to at most \a max_ratio of the paper's.
-  */
-inline void
-expectAutoAddsAll (const std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr> &recordings,
-                   std::vector<std::string> hidden, double max_ratio = 0.5)
-{
-  using namespace pcl::texlet;
-  lab::ModelLab lab{lab::LabSettings ()};
-  for (const auto &r : recordings)
-    lab.addRecording (r);
-  NoiseModel model = NoiseModel::paper ();
-  const lab::LabMetrics before = lab.evaluate (model);
-  std::cout << "hidden effects:";
-  for (const auto &h : hidden)
-    std::cout << " " << h;
-  std::cout << "\n  start: sd_rmse " << before.sd_rmse_mm << " bias_rmse " << before.bias_rmse_mm << "\n";
-  std::vector<std::string> added;
-  for (std::size_t step = 0; step < hidden.size (); ++step)
-  {
-    const auto candidates = lab.rankCandidates (model);
-    const auto best = std::find_if (candidates.begin (), candidates.end (),
-                                    [] (const lab::Candidate &c) { return c.applicable && c.significant; });
-    ASSERT_NE (best, candidates.end ()) << "no significant candidate after " << step << " added";
-    std::cout << "  + " << best->effect << " (gain " << best->gain << ", " << best->effect_shows_in << " error "
-              << 100.0 * best->effect_size << " % of its mean square removed where it shows)\n";
-    model = lab.addEffect (model, best->effect);
-    added.push_back (best->effect);
-  }
-  const lab::LabMetrics after = lab.evaluate (model);
-  std::cout << "  after: sd_rmse " << after.sd_rmse_mm << " bias_rmse " << after.bias_rmse_mm << "\n";
-  std::sort (hidden.begin (), hidden.end ());
-  std::sort (added.begin (), added.end ());
-  EXPECT_EQ (added, hidden);
-  EXPECT_LE (after.sd_rmse_mm, max_ratio * before.sd_rmse_mm);
-  EXPECT_LE (after.bias_rmse_mm, max_ratio * before.bias_rmse_mm);
 }
 
 /** \brief No candidate may be significant (nothing is hidden). */
