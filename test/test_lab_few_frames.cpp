@@ -5,19 +5,16 @@
  * means carry information: the lab must find a static depth distortion there, say which effects it
  * cannot test, and find nothing on clean walls.
  */
-#include "support/app_run.h"
+#include "support/generated_walls.h"
 #include "support/lab_proof.h"
-#include "support/temp_dir.h"
+#include "support/simulated_walls.h"
 
 #include <pcl_texlet/lab/recording_measurement.h>
 #include <pcl_texlet/noise/effect_registry.h>
-#include <pcl_texlet/simulation/kinect_simulator.h>
-#include <pcl_texlet/simulation/scene_setup.h>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -26,62 +23,35 @@ using namespace pcl::texlet;
 namespace
 {
 
-const int kWalls = 8;
-const double kDistances[kWalls] = {0.7, 1.1, 1.5, 1.9, 2.3, 2.7, 3.1, 3.5};
-const double kTiltX[kWalls] = {-6, 8, -4, 5, -8, 3, -5, 7};
-const double kTiltY[kWalls] = {14, -20, 25, -12, 18, -26, 10, -16};
+/** Eight walls, 0.7 to 3.5 m, with varied tilts. */
+std::vector<pcl_texlet_test::WallPose>
+eightWalls ()
+{
+  const double distances[8] = {0.7, 1.1, 1.5, 1.9, 2.3, 2.7, 3.1, 3.5};
+  const double tilt_x[8] = {-6, 8, -4, 5, -8, 3, -5, 7};
+  const double tilt_y[8] = {14, -20, 25, -12, 18, -26, 10, -16};
+  std::vector<pcl_texlet_test::WallPose> poses (8);
+  for (int k = 0; k < 8; ++k)
+    poses[k] = {distances[k], tilt_x[k], tilt_y[k], 1};
+  return poses;
+}
 
-/** Eight walls (0.7 to 3.5 m, varied tilts) of the independent generator, \a frames frames each,
-  * \a width x 3/4 \a width, with \a effect ("" for none); one sensor (one --sensor-seed) made them.
+/** The eight walls from the independent generator, \a frames frames each, \a width x 3/4
+  * \a width, with \a effect ("" for none); one sensor made them.
   */
 std::vector<lab::RecordingMeasurement::ConstPtr>
 generateWalls (const std::string &effect, int seed, int frames, int width)
 {
-  pcl_texlet_test::TempDir dir;
-  std::vector<lab::RecordingMeasurement::ConstPtr> out;
-  for (int k = 0; k < kWalls; ++k)
-  {
-    const std::string folder = (dir.path () / ("wall_" + std::to_string (k))).string ();
-    const std::string args = folder + " --width " + std::to_string (width) + " --height " + std::to_string (width * 3 / 4) +
-                             " --frames " + std::to_string (frames) + " --seed " + std::to_string (seed + 37 * k) +
-                             " --distance " + std::to_string (kDistances[k]) + " --tilt-x " + std::to_string (kTiltX[k]) +
-                             " --tilt-y " + std::to_string (kTiltY[k]) + " --sensor-seed " + std::to_string (seed) +
-                             (effect.empty () ? "" : " --effect " + effect);
-    const auto r = pcl_texlet_test::runCommand (std::string (PYTHON3) + " " + GENERATOR + " " + args, dir.path ());
-    EXPECT_EQ (r.code, 0) << r.err;
-    out.push_back (lab::measureRecording (folder));
-  }
-  return out;
+  return pcl_texlet_test::generatedWalls (eightWalls (), effect, seed, frames, width);
 }
 
-/** The same eight walls from the simulator, one frame each; with depth_distortion all share one
-  * seed (one sensor's map) and differ in their frame numbers.
-  */
+/** The same eight walls from the simulator, one frame each, with \a effect ("" for none). */
 std::vector<lab::RecordingMeasurement::ConstPtr>
 simulateWalls (const std::string &effect, std::uint32_t seed, int width)
 {
-  std::vector<lab::RecordingMeasurement::ConstPtr> out;
-  for (int k = 0; k < kWalls; ++k)
-  {
-    const sim::SceneSetup setup = sim::planeSetup (kDistances[k], kTiltX[k], kTiltY[k], 1);
-    sim::SimulationSettings settings;
-    settings.seed = seed + 101 * k;
-    std::uint32_t first_frame = 0;
-    if (!effect.empty ())
-      sim::setEffectEnabled (settings.effects, effect, true);
-    if (effect == "depth_distortion")
-    {
-      settings.seed = seed;
-      first_frame = 1000 * k;
-    }
-    sim::KinectSimulator simulator (setup.scene, setup.sensors (sim::DepthSensor::kinect (width, width * 3 / 4)),
-                                    settings);
-    const auto frames = simulator.simulate (0, first_frame, 1);
-    std::ostringstream meta;
-    meta << "scene: plane\nprojectors: " << simulator.activeProjectors () << "\n";
-    out.push_back (lab::measureFrames (frames, simulator.cameraInfo (0), "wall_" + std::to_string (k), meta.str ()));
-  }
-  return out;
+  return pcl_texlet_test::simulatedWalls (eightWalls (), effect.empty () ? std::vector<std::string> ()
+                                                                           : std::vector<std::string>{effect},
+                                          seed, 1, width);
 }
 
 /** Single frames: the temporal SD is undefined, the variance-only effects are not testable. */

@@ -6,9 +6,8 @@
  * 1/cos, base noise added in depth), at other distances, tilts and seeds than test_lab.cpp's.
  * The same proof as there (test/support/lab_proof.h).
  */
-#include "support/app_run.h"
+#include "support/generated_walls.h"
 #include "support/lab_proof.h"
-#include "support/temp_dir.h"
 
 #include <pcl_texlet/lab/recording_measurement.h>
 
@@ -23,44 +22,26 @@ namespace
 {
 
 /** Five walls (0.85 to 2.9 m, 20 frames, \a width x 3/4 \a width) of the independent generator
-  * with \a effect (its --effect argument, "" for none) hidden, measured. One sensor made them
-  * all: its own draws (the distortion map) come from one seed.
+  * with \a effect (its --effect argument, "" for none) hidden, measured; one sensor made them.
   */
 std::vector<lab::RecordingMeasurement::ConstPtr>
 generateWalls (const std::string &effect, int seed, int width = 160)
 {
-  pcl_texlet_test::TempDir dir;
   const double distances[5] = {0.85, 1.3, 1.85, 2.4, 2.9};
-  double tilt_y[5] = {-10, 16, -22, 12, -18}, tilt_x[5] = {-5, 7, -3, 5, -7};
-  int projectors[5] = {1, 1, 1, 1, 1};
+  const double tilt_y[5] = {-10, 16, -22, 12, -18}, tilt_x[5] = {-5, 7, -3, 5, -7};
+  const double steep_y[5] = {5, 25, 45, 58, 68};
+  const int varied_projectors[5] = {1, 3, 2, 3, 2};
   const std::string name = effect.substr (0, effect.find (':'));
-  if (name == "incidence_angle")
-  {
-    const double t[5] = {5, 25, 45, 58, 68};
-    for (int k = 0; k < 5; ++k)
-      tilt_y[k] = t[k], tilt_x[k] = 0;
-  }
-  if (name == "interference")
-  {
-    const int p[5] = {1, 3, 2, 3, 2};
-    for (int k = 0; k < 5; ++k)
-      projectors[k] = p[k];
-  }
-  std::vector<lab::RecordingMeasurement::ConstPtr> out;
+  std::vector<pcl_texlet_test::WallPose> poses (5);
   for (int k = 0; k < 5; ++k)
   {
-    const std::string folder = (dir.path () / ("wall_" + std::to_string (k))).string ();
-    const std::string args = folder + " --width " + std::to_string (width) + " --height " + std::to_string (width * 3 / 4) +
-                             " --frames 20 --seed " + std::to_string (seed + 37 * k) +
-                             " --distance " + std::to_string (distances[k]) + " --tilt-x " + std::to_string (tilt_x[k]) +
-                             " --tilt-y " + std::to_string (tilt_y[k]) + " --projectors " +
-                             std::to_string (projectors[k]) + " --sensor-seed " + std::to_string (seed) +
-                             (effect.empty () ? "" : " --effect " + effect);
-    const auto r = pcl_texlet_test::runCommand (std::string (PYTHON3) + " " + GENERATOR + " " + args, dir.path ());
-    EXPECT_EQ (r.code, 0) << r.err;
-    out.push_back (lab::measureRecording (folder));
+    poses[k] = {distances[k], tilt_x[k], tilt_y[k], 1};
+    if (name == "incidence_angle")
+      poses[k].tilt_x_deg = 0, poses[k].tilt_y_deg = steep_y[k];
+    if (name == "interference")
+      poses[k].projectors = varied_projectors[k];
   }
-  return out;
+  return pcl_texlet_test::generatedWalls (poses, effect, seed, 20, width);
 }
 
 } // namespace
