@@ -5,6 +5,7 @@
  * pcl::IOException that names the file and the problem.
  */
 #include "support/expect_error.h"
+#include "support/read_all.h"
 #include "support/temp_dir.h"
 
 #include <pcl_texlet/io/frame_skipping_reader.h>
@@ -111,16 +112,7 @@ disparities (int width, int height, unsigned seed)
   return v;
 }
 
-/** \brief Reads every frame of \a reader. */
-std::vector<DepthFrame>
-readAll (RecordingReader &reader)
-{
-  std::vector<DepthFrame> frames;
-  DepthFrame frame;
-  while (reader.next (frame))
-    frames.push_back (frame);
-  return frames;
-}
+using pcl_texlet_test::readAll;
 
 TEST_F (KinectDisparity, DepthIsTheClosedFormOfTheCalibration)
 {

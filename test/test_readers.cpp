@@ -6,6 +6,7 @@
  */
 #include "support/expect_error.h"
 #include "support/image_patterns.h"
+#include "support/read_all.h"
 #include "support/recording_folder.h"
 #include "support/temp_dir.h"
 
@@ -125,15 +126,7 @@ copyPrefix (const fs::path &from, const fs::path &to, std::uintmax_t bytes)
   fs::resize_file (to, bytes);
 }
 
-std::vector<DepthFrame>
-readAll (RecordingReader &reader)
-{
-  std::vector<DepthFrame> frames;
-  DepthFrame frame;
-  while (reader.next (frame))
-    frames.push_back (frame);
-  return frames;
-}
+using pcl_texlet_test::readAll;
 
 /** \brief A tilted plane seen by a 60 px pinhole centred at (19.5, 14.5), in metres, with
   * sub-millimetre depths, holes (NaN, z <= 0) and colour.
