@@ -1,4 +1,7 @@
 #include <pcl_texlet/lab/recording_measurement.h>
+
+#include "quantisation_lattice.h"
+
 #include <pcl_texlet/io/open_recording.h>
 
 #include <pcl/exceptions.h>
@@ -337,8 +340,7 @@ measureRecording (RecordingReader &reader, const std::string &name, const std::s
     if (m->used[i])
     {
       m->bias_mm[i] = m->mean_mm[i] - m->surface_mm[i];
-      const double x = fb1000 / m->surface_mm[i] / step;
-      m->phase[i] = static_cast<float> (x - std::floor (x));
+      m->phase[i] = static_cast<float> (detail::subStepPhase (fb1000 / m->surface_mm[i], step, 0.0));
     }
   if (m->usedCount () == 0)
     throw pcl::BadArgumentException ("recording '" + name + "': no pixel has " + std::to_string (min_valid) +
