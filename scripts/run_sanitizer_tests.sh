@@ -40,8 +40,8 @@ status=0
 # Of the model lab's statistical proofs (each ranks every candidate effect, so each runs the same
 # lab code) one per data source runs here, the simulator's distortion and the independent
 # generator's lattice case; the Release suite runs them all (docs/fuzzing.md, "In CI").
-proofs='^ModelLabProof[.](FindsVertical|FindsIncidence|FindsInterference|FindsTemporal|FindsDisparity|Nothing)'
-proofs+='|^ModelLabIndependentProof[.](FindsVertical|FindsIncidence|FindsInterference|FindsADrift|FindsDepth|Nothing|FindsDisparityQuantization$)'
+proofs='^ModelLabProof[.](FindsQuantisation|FindsVertical|FindsIncidence|FindsInterference|FindsTemporal|FindsDisparity|Nothing)'
+proofs+='|^ModelLabIndependentProof[.](FindsQuantisation|FindsVertical|FindsIncidence|FindsInterference|FindsADrift|FindsDepth|Nothing|FindsDisparityQuantization$)'
 LD_PRELOAD=$(pwd)/test/sanitizer/libkeep_modules_loaded.so ctest --output-on-failure -j "$jobs" -E "$proofs" || status=$?
 t2=$(date +%s)
 echo "run_sanitizer_tests: build $((t1 - t0)) s, ctest $((t2 - t1)) s (jobs=$jobs), status $status"

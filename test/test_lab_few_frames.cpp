@@ -42,7 +42,9 @@ eightWalls ()
 std::vector<lab::RecordingMeasurement::ConstPtr>
 generateWalls (const std::string &effect, int seed, int frames, int width)
 {
-  return pcl_texlet_test::generatedWalls (eightWalls (), effect, seed, frames, width);
+  return pcl_texlet_test::generatedWalls (eightWalls (), effect.empty () ? std::vector<std::string> ()
+                                                                         : std::vector<std::string>{effect},
+                                          seed, frames, width);
 }
 
 /** The same eight walls from the simulator, one frame each, with \a effect ("" for none). */

@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <string>
 #include <vector>
 
@@ -22,26 +24,37 @@ namespace
 {
 
 /** Five walls (0.85 to 2.9 m, 20 frames, \a width x 3/4 \a width) of the independent generator
-  * with \a effect (its --effect argument, "" for none) hidden, measured; one sensor made them.
+  * with \a effects (each an --effect argument; none: a clean wall) hidden, measured; one sensor
+  * made them.
   */
 std::vector<lab::RecordingMeasurement::ConstPtr>
-generateWalls (const std::string &effect, int seed, int width = 160)
+generateWalls (const std::vector<std::string> &effects, int seed, int width = 160)
 {
   const double distances[5] = {0.85, 1.3, 1.85, 2.4, 2.9};
   const double tilt_y[5] = {-10, 16, -22, 12, -18}, tilt_x[5] = {-5, 7, -3, 5, -7};
   const double steep_y[5] = {5, 25, 45, 58, 68};
   const int varied_projectors[5] = {1, 3, 2, 3, 2};
-  const std::string name = effect.substr (0, effect.find (':'));
+  auto hidden = [&] (const std::string &name) {
+    return std::any_of (effects.begin (), effects.end (),
+                        [&] (const std::string &e) { return e.substr (0, e.find (':')) == name; });
+  };
   std::vector<pcl_texlet_test::WallPose> poses (5);
   for (int k = 0; k < 5; ++k)
   {
     poses[k] = {distances[k], tilt_x[k], tilt_y[k], 1};
-    if (name == "incidence_angle")
+    if (hidden ("incidence_angle"))
       poses[k].tilt_x_deg = 0, poses[k].tilt_y_deg = steep_y[k];
-    if (name == "interference")
+    if (hidden ("interference"))
       poses[k].projectors = varied_projectors[k];
   }
-  return pcl_texlet_test::generatedWalls (poses, effect, seed, 20, width);
+  return pcl_texlet_test::generatedWalls (poses, effects, seed, 20, width);
+}
+
+/** generateWalls with one hidden \a effect ("" for none). */
+std::vector<lab::RecordingMeasurement::ConstPtr>
+generateWalls (const std::string &effect, int seed, int width = 160)
+{
+  return generateWalls (effect.empty () ? std::vector<std::string> () : std::vector<std::string>{effect}, seed, width);
 }
 
 } // namespace
@@ -83,6 +96,14 @@ TEST (ModelLabIndependentProof, FindsInterference)
 TEST (ModelLabIndependentProof, FindsADriftThatScalesDepth)
 {
   pcl_texlet_test::expectFoundIn (generateWalls ("temporal_drift:amplitude=0.01", 551), "temporal_drift", false);
+}
+// Quantisation and Herrera's distortion at once (320 x 240, where the noise is a fair part of a
+// step): the distortion moves each pixel's disparity, and so the sub-step phase the rounding
+// sees, by up to several steps (docs/model_lab.md section 7).
+TEST (ModelLabIndependentProof, FindsQuantisationAndDistortionTogether)
+{
+  const std::vector<std::string> hidden{"disparity_quantization", "depth_distortion"};
+  pcl_texlet_test::expectBothFoundIn (generateWalls (hidden, 581, 320), hidden);
 }
 TEST (ModelLabIndependentProof, NothingSignificantWithoutAHiddenEffect)
 {

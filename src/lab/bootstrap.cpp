@@ -24,7 +24,7 @@ synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<
   auto out = std::make_unique<ModelLab::Data> (d);
   const ModelView mv (model);
   StaticState s;
-  staticFit (mv, d, recs, false, s);
+  staticFit (mv, d, recs, GridFit::none, s);
   std::normal_distribution<double> gauss (0.0, 1.0);
   auto chi2 = [&] (double dof) {
     if (!(dof > 0))

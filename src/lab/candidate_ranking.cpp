@@ -35,8 +35,8 @@ using namespace detail;
 std::vector<Candidate>
 ModelLab::rankCandidates (const NoiseModel &current) const
 {
-  const Data &A = data (Half::fit);
-  const Data &B = data (Half::score);
+  const std::shared_ptr<const Data> data_fit = data (Half::fit, current), data_score = data (Half::score, current);
+  const Data &A = *data_fit, &B = *data_score;
   auto say = [&] (const std::string &line) {
     if (settings_.progress)
       settings_.progress (line);
@@ -174,7 +174,7 @@ ModelLab::rankCandidates (const NoiseModel &current) const
   // Each candidate's practical effect is measured against the refitted current model's
   // per-pixel predictions on the score half.
   PixelErrors base_pixels;
-  evaluate (base, Half::score, &base_pixels);
+  evaluate (base, B, &base_pixels);
   parallelFor (static_cast<int> (chosen.size ()), threads, true, [&] (int i) {
     const Fit &f = fits[chosen[i]];
     const DataSet &set = sets[f.set];
@@ -188,7 +188,7 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     c.model = f.model;
     c.gain = gain;
     PixelErrors pixels;
-    c.metrics = evaluate (c.model, Half::score, &pixels);
+    c.metrics = evaluate (c.model, B, &pixels);
     const EffectSize size = effectSize (base_pixels, pixels);
     const bool in_sd = size.sd_fall >= size.bias_fall;
     c.effect_size = in_sd ? size.sd_fall : size.bias_fall;

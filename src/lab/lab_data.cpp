@@ -1,5 +1,6 @@
 #include "lab_data.h"
 #include "quantisation_lattice.h"
+#include "static_fit.h"
 
 #include <pcl_texlet/kernels/structured_light.h>
 
@@ -50,7 +51,8 @@ pixelContext (const RecordingMeasurement &m, std::size_t i)
 }
 
 std::unique_ptr<ModelLab::Data>
-buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, bool split_frames)
+buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, bool split_frames,
+           const NoiseTerm *distortion)
 {
   auto d = std::make_unique<ModelLab::Data> ();
   d->half = half;
@@ -168,7 +170,10 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         const int ab = std::min (7, static_cast<int> (angle / 11.25));
         const float e = m.edge_distance_px[i];
         const int eb = e < 2.0f ? 0 : (e < 5.0f ? 1 : 2);
-        const double phase = subStepPhase (fb1000 / m.surface_mm[i], stepOf (m), lattice.phase);
+        const double moved_px = distortion ? linearBiasPx (*distortion, distortion->parameters (), u, v,
+                                                           m.surface_mm[i], m.fb ())
+                                           : 0.0;
+        const double phase = subStepPhase (fb1000 / m.surface_mm[i] + moved_px, stepOf (m), lattice.phase);
         const int qb = std::min (19, static_cast<int> (20 * phase));
         const std::uint64_t key = ((((static_cast<std::uint64_t> (r) * 8 + rb) * 8 + zb) * 8 + ab) * 3 + eb);
         const std::uint64_t qkey = key * 20 + qb;
@@ -197,6 +202,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
           B.scos += m.cos_incidence[i];
           B.sedge += std::min (e, 1e3f);
           B.sphase += phase;
+          B.sdistortion += moved_px;
           B.w += 1;
           (which ? qbin_at : bin_at)[i] = b;
         }
@@ -374,7 +380,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
       {
         const double step = stepOf (m);
         const double fb1000 = 1000.0 * m.fb ();
-        const double levels = std::floor (fb1000 / z / step - lattice.phase);
+        const double levels = std::floor ((fb1000 / z + B.sdistortion / B.w) / step - lattice.phase);
         z = fb1000 / ((levels + lattice.phase + B.sphase / B.w) * step);
       }
       B.ctx.depth_mm = z;

@@ -53,7 +53,7 @@ struct Bin
 {
   PixelContext ctx;
   double dof = 0, ssw = 0, npix = 0, sum_log_n = 0;
-  double su = 0, sv = 0, sr = 0, sz = 0, scos = 0, sedge = 0, sphase = 0, w = 0;
+  double su = 0, sv = 0, sr = 0, sz = 0, scos = 0, sedge = 0, sphase = 0, sdistortion = 0, w = 0;
   int rec = 0;
 };
 
@@ -111,9 +111,13 @@ namespace detail
 PixelContext
 pixelContext (const RecordingMeasurement &m, std::size_t i);
 
-/** The aggregates of \a half of \a recs (frame halves when \a split_frames, else 32 px blocks). */
+/** The aggregates of \a half of \a recs (frame halves when \a split_frames, else 32 px blocks).
+  * A pixel's sub-step phase is that of its surface's disparity moved by \a distortion (a linear
+  * bias term with its node values; none when null): the disparity the rounding sees.
+  */
 std::unique_ptr<ModelLab::Data>
-buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, bool split_frames);
+buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, bool split_frames,
+           const NoiseTerm *distortion);
 
 } // namespace detail
 

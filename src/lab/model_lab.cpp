@@ -87,7 +87,7 @@ ModelLab::addRecording (const RecordingMeasurement::ConstPtr &recording)
     throw pcl::BadArgumentException ("ModelLab::addRecording: the recording is null");
   recordings_.push_back (recording);
   for (auto &d : data_)
-    d.reset ();
+    d = CachedData ();
 }
 
 bool
@@ -99,18 +99,33 @@ ModelLab::splitsFrames () const
   return true;
 }
 
-const ModelLab::Data &
-ModelLab::data (Half half) const
+std::shared_ptr<const ModelLab::Data>
+ModelLab::data (Half half, const NoiseModel &reference) const
 {
   if (recordings_.empty ())
     throw pcl::BadArgumentException ("model lab: no recording was added");
-  auto &slot = data_[static_cast<int> (half)];
-  if (!slot)
-    slot = buildData (recordings_, half, splitsFrames ());
-  if (slot->px.empty ())
-    throw pcl::BadArgumentException ("model lab: no pixel has enough valid samples in each half of the data "
-                                     "(two, or one in recordings of one frame)");
-  return *slot;
+  // The distortion moves each pixel's disparity before the rounding, and so its sub-step phase
+  // (docs/model_lab.md section 7): its settings and node values say which phases.
+  const ModelView view (reference);
+  std::vector<double> distortion;
+  if (view.grid)
+  {
+    for (const auto &kv : view.grid->settings ())
+      distortion.push_back (kv.second);
+    const std::vector<double> &nodes = view.grid->parameters ();
+    distortion.insert (distortion.end (), nodes.begin (), nodes.end ());
+  }
+  CachedData &slot = data_[static_cast<int> (half)];
+  if (!slot.data || slot.distortion != distortion)
+  {
+    std::shared_ptr<const Data> built = buildData (recordings_, half, splitsFrames (), view.grid.get ());
+    if (built->px.empty ())
+      throw pcl::BadArgumentException ("model lab: no pixel has enough valid samples in each half of the data "
+                                       "(two, or one in recordings of one frame)");
+    slot.data = std::move (built);
+    slot.distortion = std::move (distortion);
+  }
+  return slot.data;
 }
 
 PixelContext
@@ -122,16 +137,15 @@ ModelLab::context (std::size_t r, std::size_t i) const
 LabMetrics
 ModelLab::evaluate (const NoiseModel &model, Half half) const
 {
-  return evaluate (model, half, nullptr);
+  return evaluate (model, *data (half, model), nullptr);
 }
 
 LabMetrics
-ModelLab::evaluate (const NoiseModel &model, Half half, PixelErrors *pixels) const
+ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels) const
 {
-  const Data &d = data (half);
   const ModelView mv (model);
   StaticState s;
-  staticFit (mv, d, recordings_, false, s);
+  staticFit (mv, d, recordings_, GridFit::none, s);
   LabMetrics out;
   // Column and frame parts of the NLL as in the fit; within and static parts per pixel.
   double L = 0;
@@ -238,7 +252,7 @@ ModelLab::evaluate (const NoiseModel &model, Half half, PixelErrors *pixels) con
 NoiseModel
 ModelLab::fit (const NoiseModel &model, Half half) const
 {
-  return fitOn (model, data (half), recordings_, settings_);
+  return fitOn (model, *data (half, model), recordings_, settings_);
 }
 
 NoiseModel
@@ -256,7 +270,8 @@ ModelLab::addEffect (const NoiseModel &current, const std::string &effect) const
     throw pcl::BadArgumentException ("model lab: the model already has the effect '" + effect + "'");
   if (recordings_.empty ())
     throw pcl::BadArgumentException ("model lab: no recording was added");
-  const Data &d = data (Half::all);
+  const std::shared_ptr<const Data> data_all = data (Half::all, current);
+  const Data &d = *data_all;
   NoiseModel base = fitOn (current, d, recordings_, settings_);
   StaticState s;
   const double nested = fitObjective (base, d, recordings_, s);

@@ -28,11 +28,12 @@ using namespace detail;
 void
 ModelLab::predict (const NoiseModel &model, std::size_t r, std::vector<float> &sd_mm, std::vector<float> &mean_mm) const
 {
-  const Data &d = data (Half::all);
+  const std::shared_ptr<const Data> data_all = data (Half::all, model);
+  const Data &d = *data_all;
   const RecordingMeasurement &m = *recordings_.at (r);
   const ModelView mv (model);
   StaticState s;
-  staticFit (mv, d, recordings_, false, s);
+  staticFit (mv, d, recordings_, GridFit::none, s);
   const std::size_t n = static_cast<std::size_t> (m.width) * m.height;
   sd_mm.assign (n, std::numeric_limits<float>::quiet_NaN ());
   mean_mm.assign (n, std::numeric_limits<float>::quiet_NaN ());
@@ -71,7 +72,8 @@ void
 ModelLab::frameCurve (const NoiseModel &model, std::size_t r, std::vector<double> &predicted_mm,
                       std::vector<double> &measured_mm) const
 {
-  const Data &d = data (Half::all);
+  const std::shared_ptr<const Data> data_all = data (Half::all, model);
+  const Data &d = *data_all;
   const PixelContext &rep = d.rep.at (r);
   const double J = kernels::depthPerDisparityMm (rep.true_depth_mm, rep.fb_px_m);
   const auto &list = d.frame_list[r];

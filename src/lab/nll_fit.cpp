@@ -198,10 +198,10 @@ withTerm (const NoiseModel &model, const std::string &name, const std::vector<Re
 
 double
 fitObjective (NoiseModel &model, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
-              StaticState &s)
+              StaticState &s, GridFit grid_fit)
 {
   const ModelView mv (model);
-  staticFit (mv, d, recs, true, s);
+  staticFit (mv, d, recs, grid_fit, s);
   if (mv.grid && !s.grid.empty ())
   {
     // Settings first: setting one resets the term's parameters.
@@ -222,6 +222,8 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
   bool has_static = false; // a rounding or a linear bias term: the static fit changes with the rest
   for (const auto &t : model.terms ())
     has_static = has_static || t->quantises () || t->linearBiasSupport () > 0;
+  const GridFit grid_fit = new_term >= 0 && model.terms ()[new_term]->linearBiasSupport () > 0 ? GridFit::nodes_and_shape
+                                                                                              : GridFit::nodes;
   const int outer = has_static ? std::max (1, settings.outer_iterations) : std::min (2, std::max (1, settings.outer_iterations));
   if (new_term >= 0)
   {
@@ -239,24 +241,24 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
         v[0] *= f;
         term->setParameters (v);
         StaticState s;
-        const double L = fitObjective (model, d, recs, s);
+        const double L = fitObjective (model, d, recs, s, grid_fit);
         if (L < best)
           best = L, best_values = v;
       }
       term->setParameters (best_values);
       StaticState s;
-      fitObjective (model, d, recs, s);
+      fitObjective (model, d, recs, s, grid_fit);
       ceresRun (model, own, d, s, settings);
     }
   }
   for (int it = 0; it < outer; ++it)
   {
     StaticState s;
-    fitObjective (model, d, recs, s);
+    fitObjective (model, d, recs, s, grid_fit);
     ceresRun (model, pm, d, s, settings);
   }
   StaticState s;
-  const double L = fitObjective (model, d, recs, s);
+  const double L = fitObjective (model, d, recs, s, grid_fit);
   if (new_term >= 0 && std::isfinite (nested_objective) && !(L <= nested_objective))
   {
     // Worse than without the term: the fit is stuck; the nested model with the term neutral.
@@ -292,7 +294,7 @@ scoreOn (const NoiseModel &model, const ModelLab::Data &d, const std::vector<Rec
 {
   const ModelView mv (model);
   StaticState s;
-  staticFit (mv, d, recs, false, s);
+  staticFit (mv, d, recs, GridFit::none, s);
   return objective (mv, d, s) / d.samples;
 }
 

@@ -19,16 +19,19 @@ namespace lab
 namespace detail
 {
 
-/** NLL per sample of \a model on \a d with the surfaces (and a grid) fitted to it. */
+/** NLL per sample of \a model on \a d with the surfaces (and a grid, as \a grid_fit says) fitted
+  * to it; the fitted grid is written into \a model.
+  */
 double
 fitObjective (NoiseModel &model, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
-              StaticState &s);
+              StaticState &s, GridFit grid_fit = GridFit::nodes);
 
 /** Refits \a start on \a d: alternating linear (surfaces, grid) and Ceres (the rest) fits.
   * \a new_term: index of a term just added to a fitted model, or -1. A new term is first fitted
   * alone (from the best of a few starting scales), then everything together; since the model
   * without it is nested (the term at neutral values), the result is never worse on \a d than
-  * that model, whose objective is \a nested_objective.
+  * that model, whose objective is \a nested_objective. A grid's shape along depth is chosen when
+  * the grid is the new term and kept after that (docs/model_lab.md section 9).
   */
 NoiseModel
 fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,

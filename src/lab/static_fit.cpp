@@ -85,7 +85,11 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
     {
       const PixelRow &p = d.px[k];
       const RecordingMeasurement &m = *recs[p.rec];
-      const double d0 = 1000.0 * m.fb () / m.surface_mm[p.index] - pre_bias[p.qbin] / p.J;
+      // The rounding sees the disparity that the distortion (as the model has it now) has moved.
+      const double moved_px = mv.grid ? linearBiasPx (*mv.grid, mv.grid->parameters (), double (p.index % m.width),
+                                                      double (p.index / m.width), m.surface_mm[p.index], m.fb ())
+                                      : 0.0;
+      const double d0 = 1000.0 * m.fb () / m.surface_mm[p.index] + moved_px - pre_bias[p.qbin] / p.J;
       double offset = 0, var = 0;
       mv.quantiser->roundingMoments (d0, std::sqrt (pre_var[p.qbin]) / p.J, offset, var);
       s.pixel_bias[k] = static_cast<float> (pre_bias[p.qbin] - p.J * offset);
@@ -211,11 +215,13 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
 
 void
 staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
-           bool fit_grid, StaticState &s)
+           GridFit grid_fit, StaticState &s)
 {
   s.grid_settings.clear ();
-  const auto search = mv.grid && fit_grid ? mv.grid->linearBiasShapeSearch ()
-                                          : std::vector<std::pair<std::string, std::vector<double>>> ();
+  const bool fit_grid = grid_fit != GridFit::none;
+  const auto search = mv.grid && grid_fit == GridFit::nodes_and_shape
+                          ? mv.grid->linearBiasShapeSearch ()
+                          : std::vector<std::pair<std::string, std::vector<double>>> ();
   if (search.empty ())
   {
     solveStatic (mv, mv.grid.get (), d, recs, fit_grid, s);

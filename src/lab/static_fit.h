@@ -103,14 +103,22 @@ floorVar (const NoiseModel &m, double var);
 void
 binMoments (const ModelView &mv, const std::vector<Bin> &bins, StaticState &s);
 
-/** Linear fit of the surfaces (plane scenes) and, when fit_grid, of the distortion grid, to the
-  * pixels' mean disparities with the model's other biases removed; then the static sums. When
-  * fitting a grid whose shape along depth has settings to search (linearBiasShapeSearch), every
-  * combination is fitted and the one with the smallest static NLL kept (grid_settings).
+/** What staticFit fits of the distortion grid besides the surfaces. */
+enum class GridFit
+{
+  none,          ///< the grid as the model has it
+  nodes,         ///< its node values, in the shape along depth the model has
+  nodes_and_shape ///< its node values in each shape it can take (linearBiasShapeSearch); the best
+};
+
+/** Linear fit of the surfaces (plane scenes) and, as \a grid_fit says, of the distortion grid,
+  * to the pixels' mean disparities with the model's other biases removed; then the static sums.
+  * With GridFit::nodes_and_shape every combination of the grid's shape settings is fitted and
+  * the one with the smallest static NLL kept (grid_settings).
   */
 void
 staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
-           bool fit_grid, StaticState &s);
+           GridFit grid_fit, StaticState &s);
 
 } // namespace detail
 } // namespace lab

@@ -20,12 +20,14 @@ namespace pcl_texlet_test
 {
 
 /** \brief One wall recording of the generator for each of \a poses, \a frames frames of \a width
-  * x 3/4 \a width pixels, with \a effect (its --effect arguments, "" for none) hidden, measured.
+  * x 3/4 \a width pixels, with \a effects (each an --effect argument; none: a clean wall) hidden,
+  * measured.
   * Wall k has seed \a seed + 37 k; one sensor made them all: its own draws (the distortion map)
   * come from \a seed.
   */
 inline std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr>
-generatedWalls (const std::vector<WallPose> &poses, const std::string &effect, int seed, int frames, int width)
+generatedWalls (const std::vector<WallPose> &poses, const std::vector<std::string> &effects, int seed, int frames,
+                int width)
 {
   TempDir dir;
   std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr> out;
@@ -33,11 +35,13 @@ generatedWalls (const std::vector<WallPose> &poses, const std::string &effect, i
   {
     const WallPose &p = poses[k];
     const std::string folder = (dir.path () / ("wall_" + std::to_string (k))).string ();
-    const std::string args = folder + " --width " + std::to_string (width) + " --height " + std::to_string (width * 3 / 4) +
+    std::string args = folder + " --width " + std::to_string (width) + " --height " + std::to_string (width * 3 / 4) +
                              " --frames " + std::to_string (frames) + " --seed " + std::to_string (seed + 37 * static_cast<int> (k)) +
                              " --distance " + std::to_string (p.distance_m) + " --tilt-x " + std::to_string (p.tilt_x_deg) +
                              " --tilt-y " + std::to_string (p.tilt_y_deg) + " --projectors " + std::to_string (p.projectors) +
-                             " --sensor-seed " + std::to_string (seed) + (effect.empty () ? "" : " --effect " + effect);
+                             " --sensor-seed " + std::to_string (seed);
+    for (const auto &effect : effects)
+      args += " --effect " + effect;
     const AppResult r = runCommand (std::string (PYTHON3) + " " + GENERATOR + " " + args, dir.path ());
     EXPECT_EQ (r.code, 0) << r.err;
     out.push_back (pcl::texlet::lab::measureRecording (folder));

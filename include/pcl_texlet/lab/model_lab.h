@@ -211,18 +211,29 @@ public:
   struct Data; ///< aggregates of one half (internal)
 
 private:
-  const Data &
-  data (Half half) const;
+  /** \brief The aggregates of \a half, their sub-step phases on the disparity that
+    * \a reference's static distortion (its linear bias term, if any) gives before rounding.
+    * Built on first use and kept while the reference's distortion stays the same.
+    */
+  std::shared_ptr<const Data>
+  data (Half half, const NoiseModel &reference) const;
 
-  /** \brief evaluate (), also giving each pixel's predicted and measured SD and mean when
-    * \a pixels is not null.
+  /** \brief evaluate () on aggregates \a d, also giving each pixel's predicted and measured SD
+    * and mean when \a pixels is not null.
     */
   LabMetrics
-  evaluate (const NoiseModel &model, Half half, detail::PixelErrors *pixels) const;
+  evaluate (const NoiseModel &model, const Data &d, detail::PixelErrors *pixels) const;
+
+  /** The aggregates of one half and the distortion their phases were built on. */
+  struct CachedData
+  {
+    std::vector<double> distortion;
+    std::shared_ptr<const Data> data;
+  };
 
   LabSettings settings_;
   std::vector<RecordingMeasurement::ConstPtr> recordings_;
-  mutable std::unique_ptr<Data> data_[3];
+  mutable CachedData data_[3];
 };
 
 } // namespace lab
