@@ -1,5 +1,6 @@
 #include "bootstrap.h"
 #include "likelihood.h"
+#include "recorded_resolution.h"
 #include "static_fit.h"
 
 #include <pcl_texlet/kernels/structured_light.h>
@@ -41,34 +42,38 @@ synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<
     b.ssw = 0;
   // Per-pixel moments (not the bins'), so that the null has the real data's spread within bins.
   const int P = static_cast<int> (out->px.size ());
-  std::vector<double> pvar (P), pcol (P), pbias (P);
+  // The variance is the whole model's: a rounding sees the disparity the distortion has moved.
+  std::vector<double> pvar (P), pcol (P), pmean (P);
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < P; ++k)
   {
     const PixelRow &p = out->px[k];
-    const NoiseMoments mo = no_grid.moments (pixelContext (*recs[p.rec], p.index));
-    pvar[k] = floorVar (model, mo.variance_mm2);
-    pcol[k] = mo.column_variance_mm2;
-    pbias[k] = mo.bias_mm;
-  }
-  for (int k = 0; k < P; ++k)
-  {
-    PixelRow &p = out->px[k];
-    const double var = pvar[k], col = pcol[k], bias = pbias[k];
-    const double ssw = var * chi2 (p.n - 1);
-    p.ss_within = static_cast<float> (ssw);
-    out->bins[p.bin].ssw += ssw;
-    out->qbins[p.qbin].ssw += ssw;
-    // The pixel's mean: the fitted surface with the model's bias, plus the noise of a mean.
     const RecordingMeasurement &m = *recs[p.rec];
+    const PixelContext ctx = pixelContext (m, p.index);
+    const NoiseMoments mo = no_grid.moments (ctx);
+    // The pixel's mean: the fitted surface with the model's bias, the distortion in disparity.
     double disparity = d.plane[p.rec] ? s.planes[p.rec].dot (Eigen::Vector3d (1.0, p.x, p.y))
                                       : 1000.0 * m.fb () / m.surface_mm[p.index];
     if (mv.grid)
       disparity += linearBiasPx (*mv.grid, grid_nodes, double (p.index % m.width), double (p.index / m.width),
                                  m.surface_mm[p.index], m.fb ());
-    disparity -= bias / p.J;
-    disparity += gauss (rng) * std::sqrt ((var + col) / p.n) / p.J;
-    p.disparity = static_cast<float> (disparity);
+    disparity -= mo.bias_mm / p.J;
+    const RecordedMoments recorded = recordedMoments (model, mv.quantised, model.moments (ctx).variance_mm2,
+                                                      1000.0 * m.fb () / disparity);
+    pvar[k] = recorded.variance_mm2;
+    pcol[k] = mo.column_variance_mm2;
+    pmean[k] = disparity - recorded.mean_offset_mm / p.J;
+  }
+  for (int k = 0; k < P; ++k)
+  {
+    PixelRow &p = out->px[k];
+    const double var = pvar[k], col = pcol[k];
+    const double ssw = var * chi2 (p.n - 1);
+    p.ss_within = static_cast<float> (ssw);
+    out->bins[p.bin].ssw += ssw;
+    out->qbins[p.qbin].ssw += ssw;
+    // Plus the noise of a mean.
+    p.disparity = static_cast<float> (pmean[k] + gauss (rng) * std::sqrt ((var + col) / p.n) / p.J);
   }
   for (ColumnStat &c : out->cols)
     c.ss = columnOffsetVariance (mv, c, s) * chi2 (c.frames);

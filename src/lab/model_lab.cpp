@@ -4,6 +4,7 @@
 #include "lab_data.h"
 #include "likelihood.h"
 #include "nll_fit.h"
+#include "recorded_resolution.h"
 #include "static_fit.h"
 
 #include <pcl_texlet/kernels/structured_light.h>
@@ -202,7 +203,12 @@ ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels)
     const RecordingMeasurement &m = *recordings_[p.rec];
     const PixelContext ctx = pixelContext (m, p.index);
     const NoiseMoments mo = model.moments (ctx);
-    const double var = floorVar (model, mo.variance_mm2), col = mo.column_variance_mm2;
+    const double surface_disparity = d.plane[p.rec] ? s.planes[p.rec].dot (Eigen::Vector3d (1.0, p.x, p.y))
+                                              : 1000.0 * m.fb () / m.surface_mm[p.index];
+    const RecordedMoments recorded =
+        recordedMoments (model, mv.quantised, mo.variance_mm2,
+                         predictedMeanMm (surface_disparity, 1000.0 * m.fb (), mo.bias_mm, p.J));
+    const double var = recorded.variance_mm2, col = mo.column_variance_mm2;
     const double sd_pred = std::sqrt (var + col + p.J * p.J * drift_var[p.rec]);
     // One sample (single frames): no temporal SD to compare.
     const double sd_meas = p.n > 1 ? std::sqrt (p.ss_total / (p.n - 1)) : kNaN;
@@ -211,9 +217,7 @@ ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels)
       sd2 += (sd_pred - sd_meas) * (sd_pred - sd_meas);
       sd_count += 1;
     }
-    double surface_disparity = d.plane[p.rec] ? s.planes[p.rec].dot (Eigen::Vector3d (1.0, p.x, p.y))
-                                              : 1000.0 * m.fb () / m.surface_mm[p.index];
-    const double mu = predictedMeanMm (surface_disparity, 1000.0 * m.fb (), mo.bias_mm, p.J);
+    const double mu = predictedMeanMm (surface_disparity, 1000.0 * m.fb (), mo.bias_mm, p.J) + recorded.mean_offset_mm;
     const double e = p.mean_mm - mu;
     b2 += e * e;
     if (pixels)

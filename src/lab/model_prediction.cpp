@@ -6,6 +6,7 @@
 
 #include "lab_data.h"
 #include "likelihood.h"
+#include "recorded_resolution.h"
 #include "static_fit.h"
 
 #include <pcl_texlet/kernels/structured_light.h>
@@ -59,12 +60,13 @@ ModelLab::predict (const NoiseModel &model, std::size_t r, std::vector<float> &s
       continue;
     const double J = kernels::depthPerDisparityMm (m.surface_mm[i], m.fb ());
     const NoiseMoments mo = model.moments (pixelContext (m, i));
-    const double var = floorVar (model, mo.variance_mm2);
-    sd_mm[i] = static_cast<float> (std::sqrt (var + mo.column_variance_mm2 + J * J * drift_var));
     const double x = (double (i % m.width) - m.camera.cx ()) / m.camera.fx ();
     const double y = (double (i / m.width) - m.camera.cy ()) / m.camera.fy ();
     const double disparity = d.plane[r] ? s.planes[r].dot (Eigen::Vector3d (1.0, x, y)) : fb1000 / m.surface_mm[i];
-    mean_mm[i] = static_cast<float> (predictedMeanMm (disparity, fb1000, mo.bias_mm, J));
+    const double mean = predictedMeanMm (disparity, fb1000, mo.bias_mm, J);
+    const RecordedMoments recorded = recordedMoments (model, mv.quantised, mo.variance_mm2, mean);
+    sd_mm[i] = static_cast<float> (std::sqrt (recorded.variance_mm2 + mo.column_variance_mm2 + J * J * drift_var));
+    mean_mm[i] = static_cast<float> (mean + recorded.mean_offset_mm);
   }
 }
 

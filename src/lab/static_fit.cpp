@@ -1,4 +1,5 @@
 #include "static_fit.h"
+#include "recorded_resolution.h"
 
 #include <pcl/exceptions.h>
 
@@ -30,13 +31,6 @@ linearBiasPx (const NoiseTerm &grid, const std::vector<double> &nodes, double u,
   return offset * grid.linearBiasShape (depth_mm, fb_px_m);
 }
 
-double
-floorVar (const NoiseModel &m, double var)
-{
-  const double f = m.minSigmaMm () * m.minSigmaMm ();
-  return (var > f ? var : f) + 1.0 / 12.0;
-}
-
 void
 binMoments (const ModelView &mv, const std::vector<Bin> &bins, StaticState &s)
 {
@@ -46,7 +40,7 @@ binMoments (const ModelView &mv, const std::vector<Bin> &bins, StaticState &s)
   for (std::size_t b = 0; b < bins.size (); ++b)
   {
     const NoiseMoments m = mv.without_grid.moments (bins[b].ctx);
-    s.bin_var[b] = floorVar (mv.model, m.variance_mm2);
+    s.bin_var[b] = recordedVarianceOverPhases (mv.model, mv.quantised, m.variance_mm2);
     s.bin_col[b] = m.column_variance_mm2;
     s.bin_bias[b] = mv.quantised ? m.bias_mm : 0.0;
   }

@@ -93,12 +93,6 @@ struct StaticState
   std::vector<float> pixel_bias;         // quantised models: per-pixel bias (mm) of the other terms
 };
 
-/** Variance of a recorded sample: the model's (never below its floor) plus that of the
-  * recording's resolution, whole millimetres (16-bit PNG depth): 1/12 mm^2.
-  */
-double
-floorVar (const NoiseModel &m, double var);
-
 /** Bin moments of the model (without the distortion grid, whose bias is per pixel). */
 void
 binMoments (const ModelView &mv, const std::vector<Bin> &bins, StaticState &s);
