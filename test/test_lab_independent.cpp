@@ -75,6 +75,13 @@ TEST (ModelLabIndependentProof, FindsDisparityQuantizationOnALatticeOfItsOwn)
   pcl_texlet_test::expectFoundIn (generateWalls ("disparity_quantization:lattice_scale=1.15", 601, 320),
                                   "disparity_quantization", false);
 }
+// The generator rounds the true disparity and adds the noise after: the mean is a staircase and
+// the SD the noise's. The term's other form (rounds_before_noise), chosen by the data.
+TEST (ModelLabIndependentProof, FindsQuantisationBeforeTheNoise)
+{
+  pcl_texlet_test::expectFoundIn (generateWalls ("disparity_quantization:where=before", 611, 320),
+                                  "disparity_quantization", true);
+}
 TEST (ModelLabIndependentProof, FindsVerticalStripes)
 {
   pcl_texlet_test::expectFoundIn (generateWalls ("vertical_stripes", 531), "vertical_stripes", false);

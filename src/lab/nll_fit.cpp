@@ -2,6 +2,7 @@
 
 #include "likelihood.h"
 #include "quantisation_lattice.h"
+#include "setting_combinations.h"
 
 #include <pcl_texlet/noise/effect_registry.h>
 #include <pcl_texlet/noise/noise_terms.h>
@@ -230,21 +231,29 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
     const ParameterMap own = parameterMap (model, new_term);
     if (!own.where.empty ())
     {
-      // Scan the scale of the term's first parameter, then fit its parameters alone.
+      // Scan the scale of the term's first parameter in each of its forms, then fit its
+      // parameters alone in the best.
       const auto &term = model.terms ()[new_term];
       const std::vector<double> initial = term->parameters ();
       double best = std::numeric_limits<double>::infinity ();
       std::vector<double> best_values = initial;
-      for (double f : {0.1, 0.3, 1.0, 3.0})
-      {
-        std::vector<double> v = initial;
-        v[0] *= f;
-        term->setParameters (v);
-        StaticState s;
-        const double L = fitObjective (model, d, recs, s, grid_fit);
-        if (L < best)
-          best = L, best_values = v;
-      }
+      SettingCombination best_form;
+      forEachSettingCombination (term->formSearch (), [&] (const SettingCombination &form) {
+        for (const auto &kv : form)
+          term->setSetting (kv.first, kv.second);
+        for (double f : {0.1, 0.3, 1.0, 3.0})
+        {
+          std::vector<double> v = initial;
+          v[0] *= f;
+          term->setParameters (v);
+          StaticState s;
+          const double L = fitObjective (model, d, recs, s, grid_fit);
+          if (L < best)
+            best = L, best_values = v, best_form = form;
+        }
+      });
+      for (const auto &kv : best_form)
+        term->setSetting (kv.first, kv.second);
       term->setParameters (best_values);
       StaticState s;
       fitObjective (model, d, recs, s, grid_fit);

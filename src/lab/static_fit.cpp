@@ -1,5 +1,6 @@
 #include "static_fit.h"
 #include "recorded_resolution.h"
+#include "setting_combinations.h"
 
 #include <pcl/exceptions.h>
 
@@ -221,19 +222,13 @@ staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<Recor
     solveStatic (mv, mv.grid.get (), d, recs, fit_grid, s);
     return;
   }
-  // Every combination of the shape settings (an odometer over their value lists); the static
-  // part of the NLL (the variances do not depend on the shape) picks one.
-  std::vector<std::size_t> at (search.size (), 0);
+  // Every combination of the shape settings; the static part of the NLL (the variances do not
+  // depend on the shape) picks one.
   double best = std::numeric_limits<double>::infinity ();
-  for (;;)
-  {
+  forEachSettingCombination (search, [&] (const SettingCombination &settings) {
     const NoiseTerm::Ptr grid = mv.grid->clone ();
-    std::vector<std::pair<std::string, double>> settings;
-    for (std::size_t k = 0; k < search.size (); ++k)
-    {
-      settings.emplace_back (search[k].first, search[k].second[at[k]]);
-      grid->setSetting (search[k].first, search[k].second[at[k]]);
-    }
+    for (const auto &kv : settings)
+      grid->setSetting (kv.first, kv.second);
     StaticState trial;
     solveStatic (mv, grid.get (), d, recs, true, trial);
     double score = 0;
@@ -245,12 +240,7 @@ staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<Recor
       s = std::move (trial);
       s.grid_settings = settings;
     }
-    std::size_t k = 0;
-    while (k < search.size () && ++at[k] == search[k].second.size ())
-      at[k++] = 0;
-    if (k == search.size ())
-      break;
-  }
+  });
 }
 
 } // namespace detail

@@ -123,6 +123,7 @@ using BiasBasisOp = decltype (E::biasBasis (std::declval<Args<E>> (), 0.0, 0.0, 
 template <typename E>
 using BiasShapeOp = decltype (E::biasShape (std::declval<Args<E>> (), 0.0, 0.0));
 template <typename E> using BiasShapeSearchOp = decltype (E::biasShapeSearch ());
+template <typename E> using FormSearchOp = decltype (E::formSearch ());
 
 template <typename E>
 constexpr bool
@@ -327,6 +328,15 @@ public:
   {
     if constexpr (detail::Has<Effect, detail::BiasShapeSearchOp>::value)
       return Effect::biasShapeSearch ();
+    else
+      return {};
+  }
+
+  std::vector<std::pair<std::string, std::vector<double>>>
+  formSearch () const override
+  {
+    if constexpr (detail::Has<Effect, detail::FormSearchOp>::value)
+      return Effect::formSearch ();
     else
       return {};
   }

@@ -160,6 +160,13 @@ public:
   virtual std::vector<std::pair<std::string, std::vector<double>>>
   linearBiasShapeSearch () const { return {}; }
 
+  /** \brief The settings that choose between the forms the term's physics allows, and the values
+    * the lab tries for each when it adds the term (it keeps the form whose first fit is best);
+    * empty (the default): one form.
+    */
+  virtual std::vector<std::pair<std::string, std::vector<double>>>
+  formSearch () const { return {}; }
+
   /** \brief Sets the values the lab starts a fit from (a neutral value is a saddle), some of
     * them from what it knows of the recordings.
     */

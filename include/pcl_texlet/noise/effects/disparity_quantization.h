@@ -65,14 +65,38 @@ struct DisparityQuantization
 
   struct TermSettings
   {
-    double lattice_phase = 0.0; ///< the levels sit at (k + lattice_phase) step_px
+    double lattice_phase = 0.0;  ///< the levels sit at (k + lattice_phase) step_px
+    int rounds_before_noise = 0; ///< 0: the noisy disparity is rounded; 1: the true one, the noise comes after
   };
 
   static std::vector<Field<TermSettings>>
   termSettings ()
   {
     return {{"lattice_phase", "steps", "the levels sit at (k + lattice_phase) step_px: the phase of the depth lattice",
-             ParameterRange::Any, &TermSettings::lattice_phase}};
+             ParameterRange::Any, &TermSettings::lattice_phase},
+            {"rounds_before_noise", "1",
+             "0: the noisy disparity is rounded (SD and mean swing with the phase); 1: the true disparity is "
+             "rounded and the noise added after (the mean is a staircase, the SD is the noise's)",
+             ParameterRange::NonNegative, &TermSettings::rounds_before_noise}};
+  }
+
+  /** \brief What is wrong with \a s, or "" when nothing. */
+  static std::string
+  settingsProblem (const TermSettings &s)
+  {
+    return s.rounds_before_noise == 0 || s.rounds_before_noise == 1
+               ? ""
+               : "rounds_before_noise must be 0 (the noisy disparity is rounded) or 1 (the true one), got " +
+                     std::to_string (s.rounds_before_noise);
+  }
+
+  /** \brief Where the rounding happens is for the data to say: a sensor rounds what it
+    * measured, but a pipeline (or a simulator) may round the true disparity and add noise after.
+    */
+  static std::vector<std::pair<std::string, std::vector<double>>>
+  formSearch ()
+  {
+    return {{"rounds_before_noise", {0, 1}}};
   }
 
   /** \brief The lab starts from the lattice the recordings' depths sit on where it found one
@@ -106,13 +130,15 @@ struct DisparityQuantization
     if (!(std::isfinite (ctx.true_depth_mm) && ctx.true_depth_mm > 0))
     {
       // The phase of a measured (already quantised) depth says nothing: the phase average.
-      variance_mm2 += J * J * step * step / 12.0;
+      // Rounded before the noise, a pixel's level is the same in every frame: a bias, no noise.
+      if (!s.rounds_before_noise)
+        variance_mm2 += J * J * step * step / 12.0;
       return;
     }
     // The disparity before rounding: the true one moved by the other terms' bias.
     const double d0 = ctx.fb_px_m * 1000.0 / ctx.true_depth_mm - bias_mm / J;
     double mean_offset = 0, var_px = 0;
-    moments (d0 - s.lattice_phase * step, std::sqrt (variance_mm2) / J, step, mean_offset, var_px);
+    roundingMoments (p, s, d0, std::sqrt (variance_mm2) / J, mean_offset, var_px);
     bias_mm -= J * mean_offset;
     variance_mm2 = J * J * var_px;
   }
@@ -124,6 +150,13 @@ struct DisparityQuantization
   roundingMoments (const double *p, const TermSettings &s, double d0, double sigma, double &mean_offset,
                    double &variance)
   {
+    if (s.rounds_before_noise)
+    {
+      // The true disparity's level: a fixed offset; the noise after it keeps its own variance.
+      moments (d0 - s.lattice_phase * std::fabs (p[0]), 0.0, std::fabs (p[0]), mean_offset, variance);
+      variance = sigma * sigma;
+      return;
+    }
     moments (d0 - s.lattice_phase * std::fabs (p[0]), sigma, std::fabs (p[0]), mean_offset, variance);
   }
 
