@@ -1,8 +1,9 @@
 /*
  * Calibration of the texlet covariances: over many independently noised copies of a scene
  * whose noise follows the model, the errors of P and N must be as large as Sigma_P and
- * Sigma_N say (mean normalised squared error = degrees of freedom), and the analytic
- * propagation must agree with Monte Carlo.
+ * Sigma_N say (mean normalised squared error = degrees of freedom: 1 for P on the centre ray,
+ * whose Sigma_P lies along it, 3 for the inliers' mean), and the analytic propagation must
+ * agree with Monte Carlo.
  */
 #include "support/synthetic_scene.h"
 
@@ -12,6 +13,7 @@
 
 using namespace pcl_texlet_test;
 using pcl::texlet::PlaneFitMethod;
+using pcl::texlet::TexletCentre;
 using pcl::texlet::UncertaintyMethod;
 
 namespace
@@ -33,14 +35,15 @@ wall ()
   return s;
 }
 
-/** Mean NEES of P and N over `copies` noisy renders of the wall. */
+/** Mean NEES of P and N over `copies` noisy renders of the wall, with P defined by \a centre. */
 Nees
-meanNees (UncertaintyMethod method, int copies)
+meanNees (UncertaintyMethod method, int copies, TexletCentre centre)
 {
   const CameraSpec cam;
   const auto noise = pcl::texlet::NoiseModel::paper ();
   const Scene scene = wall ();
-  const Eigen::Vector3d n_true = std::static_pointer_cast<PlaneSurface> (scene.surfaces[0])->n;
+  const auto plane = std::static_pointer_cast<PlaneSurface> (scene.surfaces[0]);
+  const Eigen::Vector3d n_true = plane->n;
   Nees acc;
   for (int copy = 0; copy < copies; ++copy)
   {
@@ -51,6 +54,7 @@ meanNees (UncertaintyMethod method, int copies)
     est.setSpacing (12);
     est.setUncertaintyMethod (method);
     est.setSeed (static_cast<std::uint32_t> (copy));
+    est.setCentreDefinition (centre);
     // Every valid point is an inlier, so the true P is the mean of the same pixels' noise-free
     // points: the test measures the propagation, not RANSAC's selection.
     est.setRansacThreshold (1.0);
@@ -75,8 +79,21 @@ meanNees (UncertaintyMethod method, int copies)
         }
       EXPECT_EQ (static_cast<std::uint32_t> (k), t.support);
       p_true /= k;
-      const Eigen::Vector3d e = Eigen::Vector3d (t.x, t.y, t.z) - p_true;
-      acc.p += e.dot (t.covarianceP ().cast<double> ().ldlt ().solve (e));
+      if (centre == TexletCentre::CentreRay)
+      {
+        // The true plane's point on the centre pixel's ray; P's error and Sigma_P lie along it.
+        const Eigen::Vector3d &clean = r.clean[t.pixel_index];
+        const Eigen::Vector3d ray = clean / clean.z ();
+        const Eigen::Vector3d on_ray = ray * (plane->d / n_true.dot (ray));
+        const Eigen::Vector3d e = Eigen::Vector3d (t.x, t.y, t.z) - on_ray, along = ray.normalized ();
+        EXPECT_LT ((e - e.dot (along) * along).norm (), 1e-6 * on_ray.norm ()) << "P is off its centre ray";
+        acc.p += std::pow (e.dot (along), 2) / along.dot (t.covarianceP ().cast<double> () * along);
+      }
+      else
+      {
+        const Eigen::Vector3d e = Eigen::Vector3d (t.x, t.y, t.z) - p_true;
+        acc.p += e.dot (t.covarianceP ().cast<double> ().ldlt ().solve (e));
+      }
       // N's error in its own tangent frame.
       const Eigen::Matrix<double, 3, 2> tf = t.tangentFrame ().cast<double> ();
       const Eigen::Vector3d n_est (t.normal_x, t.normal_y, t.normal_z);
@@ -98,25 +115,32 @@ relativeFrobenius (const Eigen::MatrixXd &a, const Eigen::MatrixXd &ref) { retur
 
 TEST (Uncertainty, MonteCarloCovariancesAreCalibrated)
 {
-  const Nees nees = meanNees (UncertaintyMethod::MonteCarlo, 200);
-  ASSERT_GT (nees.count, 20000);
-  // Degrees of freedom 3 and 2. With 50 samples the estimated covariance inflates the
-  // expected NEES by 49/45 (P) and 49/46 (N); 20 % covers that and the sampling noise.
-  EXPECT_NEAR (nees.p, 3.0, 0.6) << "mean NEES of P over " << nees.count << " texlets";
-  EXPECT_NEAR (nees.n, 2.0, 0.4) << "mean NEES of N over " << nees.count << " texlets";
-  RecordProperty ("nees_p", std::to_string (nees.p));
-  RecordProperty ("nees_n", std::to_string (nees.n));
-  std::cout << "Monte Carlo NEES: P " << nees.p << " (dof 3), N " << nees.n << " (dof 2), " << nees.count
-            << " texlets\n";
+  for (const TexletCentre centre : {TexletCentre::CentreRay, TexletCentre::InlierMean})
+  {
+    const Nees nees = meanNees (UncertaintyMethod::MonteCarlo, 200, centre);
+    const double dof_p = centre == TexletCentre::CentreRay ? 1.0 : 3.0;
+    ASSERT_GT (nees.count, 20000);
+    // Degrees of freedom 1 or 3, and 2. With 50 samples the estimated covariance inflates the
+    // expected NEES by 49/47 (P on the ray), 49/45 (P the mean) and 49/46 (N); 20 % covers that
+    // and the sampling noise.
+    EXPECT_NEAR (nees.p, dof_p, 0.2 * dof_p) << "mean NEES of P over " << nees.count << " texlets";
+    EXPECT_NEAR (nees.n, 2.0, 0.4) << "mean NEES of N over " << nees.count << " texlets";
+    std::cout << "Monte Carlo NEES, centre " << pcl::texlet::toString (centre) << ": P " << nees.p << " (dof " << dof_p
+              << "), N " << nees.n << " (dof 2), " << nees.count << " texlets\n";
+  }
 }
 
 TEST (Uncertainty, AnalyticCovariancesAreCalibrated)
 {
-  const Nees nees = meanNees (UncertaintyMethod::Analytic, 100);
-  EXPECT_NEAR (nees.p, 3.0, 0.3);
-  EXPECT_NEAR (nees.n, 2.0, 0.2);
-  std::cout << "Analytic NEES: P " << nees.p << " (dof 3), N " << nees.n << " (dof 2), " << nees.count
-            << " texlets\n";
+  for (const TexletCentre centre : {TexletCentre::CentreRay, TexletCentre::InlierMean})
+  {
+    const Nees nees = meanNees (UncertaintyMethod::Analytic, 100, centre);
+    const double dof_p = centre == TexletCentre::CentreRay ? 1.0 : 3.0;
+    EXPECT_NEAR (nees.p, dof_p, 0.1 * dof_p);
+    EXPECT_NEAR (nees.n, 2.0, 0.2);
+    std::cout << "Analytic NEES, centre " << pcl::texlet::toString (centre) << ": P " << nees.p << " (dof " << dof_p
+              << "), N " << nees.n << " (dof 2), " << nees.count << " texlets\n";
+  }
 }
 
 TEST (Uncertainty, AnalyticAgreesWithMonteCarloOnPlanarPatches)

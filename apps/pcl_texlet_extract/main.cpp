@@ -49,7 +49,7 @@ struct Options
 {
   std::string input, output;
   pcl::texlet::TexletParameters params;
-  std::string fit = "pca", uncertainty = "montecarlo";
+  std::string fit = "pca", uncertainty = "montecarlo", centre = "ray";
   double threshold_mm = 0.0;
   std::vector<double> intrinsics; // fx fy cx cy
   std::string noise_model;        // noise-model YAML (pcl_texlet_lab's model.yaml), or empty: the paper's
@@ -371,6 +371,10 @@ run (int argc, char **argv)
       ->capture_default_str ();
   app.add_option ("--sigmas", o.params.threshold_sigmas, "automatic threshold in depth SDs")->capture_default_str ();
   app.add_option ("-f,--fit", o.fit, "plane fit: pca, svd, averaging")->capture_default_str ();
+  app.add_option ("--centre", o.centre,
+                  "texlet centre P: ray (where the centre pixel's ray meets the plane) or mean (the inliers' mean, "
+                  "the paper's)")
+      ->capture_default_str ();
   app.add_option ("-u,--uncertainty", o.uncertainty, "uncertainty: montecarlo, analytic, none")->capture_default_str ();
   app.add_option ("-n,--samples", o.params.samples, "Monte Carlo samples")->capture_default_str ();
   app.add_option ("--seed", o.params.seed, "random seed")->capture_default_str ();
@@ -396,6 +400,7 @@ run (int argc, char **argv)
 
   o.params.fit = pcl::texlet::planeFitMethodFromString (o.fit);
   o.params.uncertainty = pcl::texlet::uncertaintyMethodFromString (o.uncertainty);
+  o.params.centre = pcl::texlet::texletCentreFromString (o.centre);
   o.params.ransac_threshold = o.threshold_mm * 1e-3;
   pcl::texlet::validate (o.params);
   if (!o.noise_model.empty ())

@@ -41,6 +41,17 @@ toString (UncertaintyMethod m)
   return "unknown";
 }
 
+std::string
+toString (TexletCentre c)
+{
+  switch (c)
+  {
+  case TexletCentre::CentreRay: return "ray";
+  case TexletCentre::InlierMean: return "mean";
+  }
+  return "unknown";
+}
+
 namespace
 {
 
@@ -71,6 +82,12 @@ planeFitMethodFromString (const std::string &name)
 {
   return methodFromString (name, {PlaneFitMethod::PCA, PlaneFitMethod::SVD, PlaneFitMethod::Averaging},
                            "plane fit method");
+}
+
+TexletCentre
+texletCentreFromString (const std::string &name)
+{
+  return methodFromString (name, {TexletCentre::CentreRay, TexletCentre::InlierMean}, "texlet centre");
 }
 
 UncertaintyMethod

@@ -105,13 +105,13 @@ warpRansac (const kernels::TexletScratch<S> &ws, int count, const kernels::Texle
 /** Monte Carlo covariances, sample = lane, the sums reduced over the warp. */
 template <typename S> __device__ inline void
 warpMonteCarlo (const kernels::Neighbourhood<S> &nb, const unsigned char *mask, const bool ring_use[7],
-                const kernels::PlaneFit<S> &fit, const kernels::Vec3<S> &N, const kernels::Vec3<S> &t1,
-                const kernels::Vec3<S> &t2, const kernels::TexletSettings<S> &st, std::uint32_t centre, int lane,
-                S cov_p[6], S cov_n[3])
+                const kernels::PlaneFit<S> &fit, const kernels::TexletCentrePoint<S> &point,
+                const kernels::TexletSettings<S> &st, std::uint32_t centre, int lane, S cov_p[6], S cov_n[3])
 {
   namespace k = texlet::kernels;
+  const k::Vec3<S> &N = point.N0, &t1 = point.t1, &t2 = point.t2;
   k::SampleCovariance<S> acc;
-  acc.reset ();
+  acc.reset (point);
   if (st.fit == texlet::PlaneFitMethod::Averaging)
     for (int s = lane; s < st.samples; s += 32)
     {
@@ -186,6 +186,7 @@ texletWarpKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexG
     nb.z = ws.z;
     nb.count = count;
     k::gatherRing (frame, fs, cu, cv, nb);
+    k::gatherCentreRay (frame, cu, cv, nb);
     if (fs.need_sigma)
     {
       k::pointSigmas (frame, ws, lane, count, 32);
@@ -216,18 +217,19 @@ texletWarpKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexG
       const k::Vec3<S> N = k::faceViewpoint (fit.N, fit.P, st.viewpoint);
       k::Vec3<S> t1, t2;
       k::tangentFrame (N, t1, t2);
+      const k::TexletCentrePoint<S> point = k::texletCentre (nb, fit, N, t1, t2, st.centre, st.fit);
       k::TexletResult<S> r;
       // 4. The uncertainty: Monte Carlo over the lanes, the others on every lane.
       if (st.uncertainty == texlet::UncertaintyMethod::MonteCarlo)
-        warpMonteCarlo (nb, ws.mask, ring_use, fit, N, t1, t2, st, centre, lane, r.cov_p, r.cov_n);
+        warpMonteCarlo (nb, ws.mask, ring_use, fit, point, st, centre, lane, r.cov_p, r.cov_n);
       else if (st.uncertainty == texlet::UncertaintyMethod::Analytic)
-        k::analyticCovariance (nb, ws.mask, ring_use, st.fit, fit, N, t1, t2, r.cov_p, r.cov_n);
+        k::analyticCovariance (nb, ws.mask, ring_use, st.fit, fit, point, N, t1, t2, r.cov_p, r.cov_n);
       else
       {
         k::fillNaN (r.cov_p, 6);
         k::fillNaN (r.cov_n, 3);
       }
-      k::finishTexlet (fit, N, best, r);
+      k::finishTexlet (fit, point, best, r);
       if (fs.need_sigma)
         k::scaleCovariances (frame.varianceScale (cu, cv, r), r);
       if (lane == 0)

@@ -12,6 +12,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -45,6 +46,35 @@ mahalanobis2 (const Eigen::Matrix<double, D, D> &c, const Eigen::Matrix<double, 
   return x.dot (ldlt.solve (x));
 }
 
+/** Median of chi-square with 1, 2, 3 degrees of freedom (index = dof). */
+constexpr double kChiSquareMedian[4] = {0.0, 0.454936, 1.386294, 2.365974};
+
+/** x^T C^+ x over the eigendirections of a symmetric C whose eigenvalues are above 1e-6 of the
+  * largest (\a rank of them): a P on its centre ray has a rank-1 Sigma_P along it (stored in
+  * float, whose rounding leaves about 1e-7 in the other directions). NaN when C has none or a
+  * clearly negative eigenvalue.
+  */
+double
+neesOnRange (const Eigen::Matrix3d &c, const Eigen::Vector3d &x, int &rank)
+{
+  rank = 0;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig (c);
+  if (eig.info () != Eigen::Success)
+    return std::numeric_limits<double>::quiet_NaN ();
+  const Eigen::Vector3d l = eig.eigenvalues ();
+  const double top = l (2);
+  if (!(top > 0) || l (0) < -1e-5 * top)
+    return std::numeric_limits<double>::quiet_NaN ();
+  double nees = 0;
+  for (int i = 0; i < 3; ++i)
+    if (l (i) > 1e-6 * top)
+    {
+      nees += std::pow (eig.eigenvectors ().col (i).dot (x), 2) / l (i);
+      ++rank;
+    }
+  return nees;
+}
+
 } // namespace
 
 TexletConsistency
@@ -58,14 +88,17 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
                                      "and spacing_px >= 0");
 
   double sum_p = 0, sum_n = 0, sum_pn = 0, ideal_sum = 0; // ideal_sum: sum over centres of (n - 1)
+  double ideal_sum_p = 0; // sum over pairs of rank(Sigma_P) (n - 1) / n
   TexletConsistency out;
-  std::vector<double> all_p, all_n, shrink; // per pair: NEES of P, of N, and (n - 1) / n
+  // Per pair: NEES of P over its chi-square median, NEES of N, and (n - 1) / n.
+  std::vector<double> all_p, all_n, shrink;
   pcl::TexletEstimation<pcl::PointXYZ, pcl::Texlet> estimation;
   estimation.setNoiseModel (model);
   estimation.setUncertaintyMethod (settings.uncertainty);
   estimation.setRadius (settings.radius_px);
   estimation.setNumberOfThreads (settings.threads);
   estimation.setRansacThreshold (settings.ransac_threshold_m);
+  estimation.setCentreDefinition (settings.centre);
   for (const auto &rec : recordings)
   {
     if (!rec)
@@ -131,7 +164,7 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
         continue;
       mean_p /= n;
       mean_n.normalize ();
-      double centre_p = 0, centre_n = 0, centre_pn = 0;
+      double centre_p = 0, centre_n = 0, centre_pn = 0, centre_ideal_p = 0;
       bool ok = true;
       const std::size_t first = all_p.size ();
       for (const auto &c : texlets)
@@ -141,7 +174,8 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
           const Eigen::Vector3d dp = tx.getVector3fMap ().cast<double> () - mean_p;
           const Eigen::Matrix<double, 3, 2> frame_t = tx.tangentFrame ().cast<double> ();
           const Eigen::Vector2d dn = frame_t.transpose () * (tx.getNormalVector3fMap ().cast<double> () - mean_n);
-          const double ep = mahalanobis2<3> (tx.covarianceP ().cast<double> (), dp);
+          int rank_p = 0;
+          const double ep = neesOnRange (tx.covarianceP ().cast<double> (), dp, rank_p);
           const double en = mahalanobis2<2> (tx.covarianceN ().cast<double> (), dn);
           if (!std::isfinite (ep) || !std::isfinite (en))
           {
@@ -149,7 +183,8 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
             break;
           }
           centre_p += ep;
-          all_p.push_back (ep);
+          centre_ideal_p += rank_p * (n - 1.0) / n;
+          all_p.push_back (ep / kChiSquareMedian[rank_p]);
           all_n.push_back (en);
           shrink.push_back ((n - 1.0) / n);
           const double var_normal = mean_n.dot (tx.covarianceP ().cast<double> () * mean_n);
@@ -164,6 +199,7 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
         continue;
       }
       sum_p += centre_p;
+      ideal_sum_p += centre_ideal_p;
       sum_n += centre_n;
       sum_pn += centre_pn;
       ideal_sum += n - 1;
@@ -175,7 +211,7 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
   {
     out.nees_p = sum_p / out.samples;
     out.nees_n = sum_n / out.samples;
-    out.ideal_p = 3.0 * ideal_sum / out.samples;
+    out.ideal_p = ideal_sum_p / out.samples;
     out.ideal_n = 2.0 * ideal_sum / out.samples;
     out.nees_p_normal = sum_pn / out.samples;
     out.ideal_p_normal = ideal_sum / out.samples;
@@ -184,11 +220,11 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
       std::nth_element (v.begin (), mid, v.end ());
       return *mid;
     };
-    out.median_p = median (all_p);
+    out.median_p = kChiSquareMedian[3] * median (all_p); // in 3-dof terms, whatever each pair's rank
     out.median_n = median (all_n);
     const double m = median (shrink);
-    out.ideal_median_p = 2.365974 * m; // median of chi-square, 3 dof
-    out.ideal_median_n = 1.386294 * m; // 2 ln 2, the median of chi-square, 2 dof
+    out.ideal_median_p = kChiSquareMedian[3] * m;
+    out.ideal_median_n = kChiSquareMedian[2] * m;
   }
   return out;
 }

@@ -22,6 +22,7 @@ frameSettings (const TexletParameters &p, const float viewpoint[3], const kernel
   kernels::FrameSettings<S> fs;
   fs.kernel.ransac_iterations = p.ransac_iterations;
   fs.kernel.fit = p.fit;
+  fs.kernel.centre = p.centre;
   fs.kernel.uncertainty = p.uncertainty;
   fs.kernel.samples = p.samples;
   fs.kernel.seed = p.seed;

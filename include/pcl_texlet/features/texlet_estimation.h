@@ -110,6 +110,17 @@ public:
   texlet::PlaneFitMethod
   getPlaneFitMethod () const { return params_.fit; }
 
+  /** \brief The texlet's centre P: where the centre pixel's ray meets the fitted plane
+    * (CentreRay, default), or the inliers' mean (InlierMean, the paper's). With CentreRay, P does
+    * not move with which disc pixels are inliers in a frame, and Sigma_P (rank 1, along the ray)
+    * holds how it does move; the inliers' mean moves sideways in a way Sigma_P does not hold.
+    * Normal averaging's P is the centre pixel's point either way.
+    */
+  void
+  setCentreDefinition (texlet::TexletCentre centre);
+  texlet::TexletCentre
+  getCentreDefinition () const { return params_.centre; }
+
   /** \brief Uncertainty propagation: MonteCarlo (default), Analytic or None. */
   void
   setUncertaintyMethod (texlet::UncertaintyMethod method);

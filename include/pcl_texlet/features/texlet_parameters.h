@@ -25,6 +25,7 @@ struct TexletParameters
   double ransac_threshold = 0.0;   ///< point-to-plane inlier distance, metres; 0 = from the noise model
   double threshold_sigmas = 3.0;   ///< automatic threshold = this many depth SDs at the patch
   PlaneFitMethod fit = PlaneFitMethod::PCA;
+  TexletCentre centre = TexletCentre::CentreRay; ///< which point of the plane is P
   UncertaintyMethod uncertainty = UncertaintyMethod::MonteCarlo;
   int samples = 50;                ///< Monte Carlo samples (2 .. 100000)
   std::uint32_t seed = 0;          ///< Philox key: results depend on (seed, texlet, draw) only
@@ -79,6 +80,8 @@ parameterProblem (const TexletParameters &p)
            "must be PCA, SVD or Averaging");
   require (static_cast<int> (p.uncertainty) >= 0 && static_cast<int> (p.uncertainty) <= 2, "uncertainty",
            static_cast<int> (p.uncertainty), "must be None, Analytic or MonteCarlo");
+  require (static_cast<int> (p.centre) >= 0 && static_cast<int> (p.centre) <= 1, "centre", static_cast<int> (p.centre),
+           "must be CentreRay or InlierMean");
   return require.problem;
 }
 
@@ -95,6 +98,14 @@ toString (PlaneFitMethod m);
 /** \brief "none", "analytic", "montecarlo". */
 std::string
 toString (UncertaintyMethod m);
+
+/** \brief "ray", "mean". */
+std::string
+toString (TexletCentre c);
+
+/** \throws pcl::BadArgumentException for an unknown name. */
+TexletCentre
+texletCentreFromString (const std::string &name);
 
 /** \throws pcl::BadArgumentException for an unknown name. */
 PlaneFitMethod

@@ -36,5 +36,12 @@ enum class UncertaintyMethod : int
   MonteCarlo = 2 ///< re-fit with noise drawn from the noise model (paper, Sect. 3.2)
 };
 
+/** \brief Which point of the fitted plane is the texlet's centre P (docs/texlet_covariances.md). */
+enum class TexletCentre : int
+{
+  CentreRay = 0, ///< where the centre pixel's viewing ray meets the plane: it does not move with the inlier set
+  InlierMean = 1 ///< the inliers' mean (the paper's definition): it moves with which disc pixels are inliers
+};
+
 } // namespace texlet
 } // namespace pcl

@@ -29,6 +29,10 @@ struct Neighbourhood
   Vec3<S> ring[7];      ///< centre (0) and six hexagonal neighbours (1..6) in angular order
   S ring_sigma[7];      ///< their depth SD
   bool ring_valid[7];   ///< whether each has a finite point
+  /** The centre pixel's viewing ray, scaled to z = 1 (a point at depth z is z * centre_ray);
+    * has_centre_ray is false where neither the centre nor a symmetric pair around it has a reading. */
+  Vec3<S> centre_ray = {S (0), S (0), S (1)};
+  bool has_centre_ray = false;
 
   PCL_TEXLET_HD Vec3<S>
   point (int i) const { return {x[i], y[i], z[i]}; }

@@ -1,14 +1,16 @@
 /*
  * pcl_texlet kernels: one texlet from its neighbourhood (paper, Sect. 3.2, steps 2 and 3).
  *
- * RANSAC marks the inliers, the chosen fit gives P and N, N is turned toward the viewpoint,
- * and the chosen propagation gives Sigma_P and Sigma_N. Each step is a stage function of its
+ * RANSAC marks the inliers, the chosen fit gives the plane and N, N is turned toward the
+ * viewpoint, the centre definition gives P (centre_ray.h), and the chosen propagation gives
+ * Sigma_P and Sigma_N. Each step is a stage function of its
  * own, so the GPU's warp strategy can spread them over lanes (src/gpu/texlet_warp_kernel.cuh)
  * without restating them. computeTexlet() allocates nothing: the caller passes an inlier mask
  * of nb.count bytes and a work buffer of texletWorkSize (nb.count) values.
  */
 #pragma once
 
+#include <pcl_texlet/kernels/centre_ray.h>
 #include <pcl_texlet/kernels/config.h>
 #include <pcl_texlet/kernels/neighbourhood.h>
 #include <pcl_texlet/kernels/plane_fit.h>
@@ -29,6 +31,7 @@ struct TexletSettings
   int ransac_iterations = 20;
   S threshold = S (0);           ///< point-to-plane inlier distance, same unit as the points
   PlaneFitMethod fit = PlaneFitMethod::PCA;
+  TexletCentre centre = TexletCentre::CentreRay;
   UncertaintyMethod uncertainty = UncertaintyMethod::MonteCarlo;
   int samples = 50;              ///< Monte Carlo samples
   std::uint32_t seed = 0;
@@ -136,25 +139,26 @@ faceViewpoint (const Vec3<S> &n, const Vec3<S> &P, const Vec3<S> &viewpoint)
   return dot (n, viewpoint - P) < S (0) ? -n : n;
 }
 
-/** \brief Sigma_P and Sigma_N of the fit by the settings' uncertainty method (NaN for None).
-  * \param N the texlet's normal (the fit's, facing the viewpoint), \a t1, \a t2 its tangents
+/** \brief Sigma_P and Sigma_N of the fit by the settings' uncertainty method (NaN for None), of
+  * the texlet's \a centre (its N0, t1, t2: the texlet's normal, facing the viewpoint, and tangents).
   */
 template <typename S> PCL_TEXLET_HD void
 texletUncertainty (const Neighbourhood<S> &nb, const unsigned char *mask, const bool ring_use[7],
-                   const PlaneFit<S> &fit, const Vec3<S> &N, const Vec3<S> &t1, const Vec3<S> &t2,
-                   const TexletSettings<S> &st, std::uint32_t texlet, S *work, S cov_p[6], S cov_n[3])
+                   const PlaneFit<S> &fit, const TexletCentrePoint<S> &centre, const TexletSettings<S> &st,
+                   std::uint32_t texlet, S *work, S cov_p[6], S cov_n[3])
 {
+  const Vec3<S> &N = centre.N0, &t1 = centre.t1, &t2 = centre.t2;
   switch (st.uncertainty)
   {
   case UncertaintyMethod::Analytic:
-    analyticCovariance (nb, mask, ring_use, st.fit, fit, N, t1, t2, cov_p, cov_n);
+    analyticCovariance (nb, mask, ring_use, st.fit, fit, centre, N, t1, t2, cov_p, cov_n);
     break;
   case UncertaintyMethod::MonteCarlo:
     if (st.fit == PlaneFitMethod::PCA)
-      monteCarloPcaCovariance (nb, mask, fit, st.samples, st.seed, texlet, N, t1, t2, cov_p, cov_n);
+      monteCarloPcaCovariance (nb, mask, fit, st.samples, st.seed, texlet, N, t1, t2, cov_p, cov_n, centre);
     else
       monteCarloCovariance (nb, mask, ring_use, st.fit, st.samples, st.seed, texlet, fit.P, N, t1, t2, work, cov_p,
-                            cov_n);
+                            cov_n, centre);
     break;
   default:
     fillNaN (cov_p, 6);
@@ -162,13 +166,15 @@ texletUncertainty (const Neighbourhood<S> &nb, const unsigned char *mask, const 
   }
 }
 
-/** \brief The texlet's P, N, curvature, radius and support from its fit (covariances aside). */
+/** \brief The texlet's P, N, curvature, radius and support from its fit and \a centre
+  * (covariances aside).
+  */
 template <typename S> PCL_TEXLET_HD void
-finishTexlet (const PlaneFit<S> &fit, const Vec3<S> &N, int inliers, TexletResult<S> &out)
+finishTexlet (const PlaneFit<S> &fit, const TexletCentrePoint<S> &centre, int inliers, TexletResult<S> &out)
 {
   const S sum = fit.lambda[0] + fit.lambda[1] + fit.lambda[2];
-  out.P = fit.P;
-  out.N = N;
+  out.P = centre.P;
+  out.N = centre.N0;
   out.curvature = sum > S (0) ? fit.lambda[0] / sum : S (0);
   out.radius = std::sqrt (S (2) * (fit.lambda[1] + fit.lambda[2]));
   out.support = inliers;
@@ -199,8 +205,9 @@ computeTexlet (const Neighbourhood<S> &nb, const TexletSettings<S> &st, std::uin
   const Vec3<S> N = faceViewpoint (fit.N, fit.P, st.viewpoint);
   Vec3<S> t1, t2;
   tangentFrame (N, t1, t2);
-  texletUncertainty (nb, mask, ring_use, fit, N, t1, t2, st, texlet, work, out.cov_p, out.cov_n);
-  finishTexlet (fit, N, inliers, out);
+  const TexletCentrePoint<S> centre = texletCentre (nb, fit, N, t1, t2, st.centre, st.fit);
+  texletUncertainty (nb, mask, ring_use, fit, centre, st, texlet, work, out.cov_p, out.cov_n);
+  finishTexlet (fit, centre, inliers, out);
 }
 
 } // namespace kernels

@@ -124,6 +124,40 @@ gatherRing (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, Neig
   }
 }
 
+/** \brief The viewing ray of pixel (cu, cv), scaled to z = 1, into nb.centre_ray: its own
+  * point's, or where it has no reading the mean of the rays of the nearest symmetric pair of
+  * pixels around it with readings (up to 3 pixels away along a row, a column or a diagonal;
+  * exact for a pinhole camera, whose rays are affine in the pixel). None beyond that.
+  */
+template <typename S, typename Frame> PCL_TEXLET_HD void
+gatherCentreRay (const Frame &frame, int cu, int cv, Neighbourhood<S> &nb)
+{
+  const int w = frame.width (), h = frame.height ();
+  nb.has_centre_ray = false;
+  const auto &c = frame.point (cu, cv);
+  if (frame.valid (c))
+  {
+    nb.centre_ray = {S (c.x / c.z), S (c.y / c.z), S (1)};
+    nb.has_centre_ray = true;
+    return;
+  }
+  const int du[4] = {1, 0, 1, 1}, dv[4] = {0, 1, 1, -1};
+  for (int d = 1; d <= 3; ++d)
+    for (int k = 0; k < 4; ++k)
+    {
+      const int ua = cu - d * du[k], va = cv - d * dv[k], ub = cu + d * du[k], vb = cv + d * dv[k];
+      if (ua < 0 || ub < 0 || va < 0 || vb < 0 || ua >= w || ub >= w || va >= h || vb >= h)
+        continue;
+      const auto &a = frame.point (ua, va);
+      const auto &b = frame.point (ub, vb);
+      if (!frame.valid (a) || !frame.valid (b))
+        continue;
+      nb.centre_ray = {S (0.5 * (a.x / a.z + b.x / b.z)), S (0.5 * (a.y / a.z + b.y / b.z)), S (1)};
+      nb.has_centre_ray = true;
+      return;
+    }
+}
+
 /** \brief Depth SDs of gathered points first, first + stride, ... below \a count. */
 template <typename S, typename Frame> PCL_TEXLET_HD void
 pointSigmas (const Frame &frame, const TexletScratch<S> &ws, int first, int count, int stride)
@@ -223,7 +257,7 @@ struct InlineTexletKernel
 };
 
 /** \brief The texlet centred on pixel (cu, cv) of \a frame into \a out: the disc's valid points
-  * in disc order, the ring, per-point depth SDs, the threshold, then \a kernel (computeTexlet()
+  * in disc order, the ring, the centre ray, per-point depth SDs, the threshold, then \a kernel (computeTexlet()
   * or a build of it) keyed by the centre pixel's index, the frame's variance rescale and the
   * inliers' mean colour. \return false (and a failed texlet) where none could be made
   */
@@ -245,6 +279,7 @@ frameTexlet (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, con
   nb.z = ws.z;
   nb.count = count;
   gatherRing (frame, fs, cu, cv, nb);
+  gatherCentreRay (frame, cu, cv, nb);
   if (fs.need_sigma)
   {
     pointSigmas (frame, ws, 0, count, 1);

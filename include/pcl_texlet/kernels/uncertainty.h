@@ -4,7 +4,8 @@
  * frame of tangent_frame.h, radians).
  *
  * Both methods keep the inlier set of the measured data fixed and perturb each inlier's depth
- * along its ray with its own SD. Monte Carlo (paper, Sect. 3.2) re-fits the plane for every
+ * along its ray with its own SD. P is the texlet's centre (centre_ray.h): the inliers' mean, or
+ * where the centre pixel's ray meets the plane, whose perturbation is a step along that ray. Monte Carlo (paper, Sect. 3.2) re-fits the plane for every
  * sample: monteCarloCovariance() draws every inlier's noise (the reference definition, used
  * for SVD and averaging); monteCarloPcaCovariance() draws the PCA fit's moments from a
  * statistically equivalent Gaussian model instead (pca_sampler.h); the analytic method is the first-order expansion of the same fit: the mean for P,
@@ -13,6 +14,7 @@
  */
 #pragma once
 
+#include <pcl_texlet/kernels/centre_ray.h>
 #include <pcl_texlet/kernels/config.h>
 #include <pcl_texlet/kernels/neighbourhood.h>
 #include <pcl_texlet/kernels/normal_blocks.h>
@@ -41,7 +43,7 @@ fillNaN (S *c, int n)
 /** \brief Adds point \a k's first-order terms to lane sums (see analyticPlaneCovariance). */
 template <typename S> PCL_TEXLET_HD void
 analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k, const PlaneFit<S> &fit, S inv_d1,
-                    S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S cp[6], S cn[3])
+                    S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S inv_n, S e1m, S e2m, S cp[6], S cn[3], S &ct)
 {
   const Vec3<S> p = nb.point (k);
   const Vec3<S> r = (S (1) / p.z) * p; // dp = r dz
@@ -56,14 +58,19 @@ analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k
   cn[0] += var * j1 * j1;
   cn[1] += var * j1 * j2;
   cn[2] += var * j2 * j2;
+  const S a = re0 * inv_n + c1 * e1m + c2 * e2m;
+  ct += var * a * a;
 }
 
-/** \brief First-order covariances of a PCA or SVD fit of the inliers (mask) of \a nb.
+/** \brief First-order covariances of a PCA or SVD fit of the inliers (mask) of \a nb, with P
+  * the texlet's \a centre. On the centre ray, P = ray (N.M) / (N.ray) moves by
+  * dt = (N.dM + dN.(M - P)) / (N.ray) along it, M the inliers' mean.
   * Points are summed in four interleaved lanes, which the compiler keeps in SIMD registers.
   */
 template <typename S> PCL_TEXLET_HD void
 analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit,
-                         const Vec3<S> &t1, const Vec3<S> &t2, S cov_p[6], S cov_n[3])
+                         const TexletCentrePoint<S> &centre, const Vec3<S> &t1, const Vec3<S> &t2, S cov_p[6],
+                         S cov_n[3])
 {
   int n_in = 0;
   for (int k = 0; k < nb.count; ++k)
@@ -72,7 +79,9 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   const S inv_d1 = S (1) / d1, inv_d2 = S (1) / d2;
   // Where the tangents point in the eigenbasis: de0 = c1 e1 + c2 e2 -> (de0.t1, de0.t2).
   const S e1t1 = dot (fit.e1, t1), e1t2 = dot (fit.e1, t2), e2t1 = dot (fit.e2, t1), e2t2 = dot (fit.e2, t2);
-  S cp[4][6], cn[4][3];
+  // The ray step's terms: N.dM per point's dz is (N.r) / n, dN.(M - P) is c1 e1m + c2 e2m.
+  const S inv_n = S (1) / S (n_in), e1m = dot (fit.e1, centre.mean_offset), e2m = dot (fit.e2, centre.mean_offset);
+  S cp[4][6], cn[4][3], ct[4] = {S (0), S (0), S (0), S (0)};
   for (int i = 0; i < 4; ++i)
   {
     for (int j = 0; j < 6; ++j)
@@ -84,7 +93,7 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
 #if defined(__GNUC__) && !defined(__CUDACC__)
   // The same terms as analyticPlaneTerms, four points at a time in vector types.
   typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
-  Lane lp[6] = {}, ln[3] = {};
+  Lane lp[6] = {}, ln[3] = {}, lt = {};
   for (int k = 0; k < full; k += 4)
   {
     Lane px, py, pz, sd;
@@ -110,6 +119,8 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     ln[0] += var * j1 * j1;
     ln[1] += var * j1 * j2;
     ln[2] += var * j2 * j2;
+    const Lane a = re0 * inv_n + c1 * e1m + c2 * e2m;
+    lt += var * a * a;
   }
   for (int i = 0; i < 4; ++i)
   {
@@ -117,17 +128,30 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       cp[i][j] = lp[j][i];
     for (int j = 0; j < 3; ++j)
       cn[i][j] = ln[j][i];
+    ct[i] = lt[i];
   }
 #else
   for (int k = 0; k < full; k += 4)
     for (int i = 0; i < 4; ++i)
-      analyticPlaneTerms (nb, mask, k + i, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, cp[i], cn[i]);
+      analyticPlaneTerms (nb, mask, k + i, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[i], cn[i],
+                          ct[i]);
 #endif
   for (int k = full; k < nb.count; ++k)
-    analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, cp[k - full], cn[k - full]);
-  const S inv_n2 = S (1) / (S (n_in) * S (n_in));
-  for (int j = 0; j < 6; ++j)
-    cov_p[j] = ((cp[0][j] + cp[1][j]) + (cp[2][j] + cp[3][j])) * inv_n2;
+    analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k - full],
+                        cn[k - full], ct[k - full]);
+  if (centre.on)
+  {
+    const S var_t = ((ct[0] + ct[1]) + (ct[2] + ct[3])) * centre.inv_n_ray * centre.inv_n_ray;
+    const Vec3<S> &r = centre.ray;
+    cov_p[0] = var_t * r.x * r.x; cov_p[1] = var_t * r.x * r.y; cov_p[2] = var_t * r.x * r.z;
+    cov_p[3] = var_t * r.y * r.y; cov_p[4] = var_t * r.y * r.z; cov_p[5] = var_t * r.z * r.z;
+  }
+  else
+  {
+    const S inv_n2 = inv_n * inv_n;
+    for (int j = 0; j < 6; ++j)
+      cov_p[j] = ((cp[0][j] + cp[1][j]) + (cp[2][j] + cp[3][j])) * inv_n2;
+  }
   for (int j = 0; j < 3; ++j)
     cov_n[j] = (cn[0][j] + cn[1][j]) + (cn[2][j] + cn[3][j]);
 }
@@ -174,29 +198,34 @@ analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], cons
 
 /** \brief First-order covariances of the texlet's fit \a method: analyticAveragingCovariance()
   * for normal averaging (ring points \a ring_use), analyticPlaneCovariance() of the inliers
-  * (\a mask) for PCA and SVD.
+  * (\a mask) for PCA and SVD, with P the texlet's \a centre.
   */
 template <typename S> PCL_TEXLET_HD void
 analyticCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const bool ring_use[7],
-                    PlaneFitMethod method, const PlaneFit<S> &fit, const Vec3<S> &N, const Vec3<S> &t1,
-                    const Vec3<S> &t2, S cov_p[6], S cov_n[3])
+                    PlaneFitMethod method, const PlaneFit<S> &fit, const TexletCentrePoint<S> &centre,
+                    const Vec3<S> &N, const Vec3<S> &t1, const Vec3<S> &t2, S cov_p[6], S cov_n[3])
 {
   if (method == PlaneFitMethod::Averaging)
     analyticAveragingCovariance (nb, ring_use, N, t1, t2, cov_p, cov_n);
   else
-    analyticPlaneCovariance (nb, mask, fit, t1, t2, cov_p, cov_n);
+    analyticPlaneCovariance (nb, mask, fit, centre, t1, t2, cov_p, cov_n);
 }
 
-/** \brief Accumulates samples of (P - P0) and of the normal's tangent components. */
+/** \brief Accumulates samples of (P - P0) and of the normal's tangent components. A sample
+  * comes as its inliers' mean minus the measured one; centre turns that into the step of the
+  * texlet's centre (centreShift()).
+  */
 template <typename S>
 struct SampleCovariance
 {
   S sp[3], spp[6], sa[2], saa[3];
   int n;
+  TexletCentrePoint<S> centre; ///< off after reset (): P is the mean
 
   PCL_TEXLET_HD void
-  reset ()
+  reset (const TexletCentrePoint<S> &c = TexletCentrePoint<S> ())
   {
+    centre = c;
     for (int i = 0; i < 3; ++i) { sp[i] = S (0); saa[i] = S (0); }
     for (int i = 0; i < 6; ++i) spp[i] = S (0);
     sa[0] = sa[1] = S (0);
@@ -204,8 +233,9 @@ struct SampleCovariance
   }
 
   PCL_TEXLET_HD void
-  add (const Vec3<S> &dp, S a1, S a2)
+  add (const Vec3<S> &dM, S a1, S a2)
   {
+    const Vec3<S> dp = centreShift (centre, dM, a1, a2);
     sp[0] += dp.x; sp[1] += dp.y; sp[2] += dp.z;
     spp[0] += dp.x * dp.x; spp[1] += dp.x * dp.y; spp[2] += dp.x * dp.z;
     spp[3] += dp.y * dp.y; spp[4] += dp.y * dp.z; spp[5] += dp.z * dp.z;
@@ -314,17 +344,18 @@ inlierSample (const Neighbourhood<S> &nb, const unsigned char *mask, PlaneFitMet
 }
 
 /** \brief Monte Carlo covariances: \a samples re-fits (averagingSample() for normal averaging,
-  * inlierSample() for PCA and SVD) around the measured P0 and N0.
+  * inlierSample() for PCA and SVD) around the measured P0 (the inliers' mean) and N0, of the
+  * texlet's \a centre.
   * \param work scratch of 3 * nb.count values (used by the SVD fit only)
   */
 template <typename S> PCL_TEXLET_HD void
 monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const bool ring_use[7],
                       PlaneFitMethod method, int samples, std::uint32_t seed, std::uint32_t texlet,
                       const Vec3<S> &P0, const Vec3<S> &N0, const Vec3<S> &t1, const Vec3<S> &t2,
-                      S *work, S cov_p[6], S cov_n[3])
+                      S *work, S cov_p[6], S cov_n[3], const TexletCentrePoint<S> &centre = TexletCentrePoint<S> ())
 {
   SampleCovariance<S> acc;
-  acc.reset ();
+  acc.reset (centre);
   for (int s = 0; s < samples; ++s)
   {
     Vec3<S> P, N;
@@ -368,7 +399,8 @@ addPcaSample (const PcaSampleModel<S> &md, std::uint32_t seed, std::uint32_t tex
 template <typename S> PCL_TEXLET_HD void
 monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit, int samples,
                          std::uint32_t seed, std::uint32_t texlet, const Vec3<S> &N0, const Vec3<S> &t1,
-                         const Vec3<S> &t2, S cov_p[6], S cov_n[3])
+                         const Vec3<S> &t2, S cov_p[6], S cov_n[3],
+                         const TexletCentrePoint<S> &centre = TexletCentrePoint<S> ())
 {
   const PcaModelBasis<S> basis = pcaModelBasis (fit);
   int n = 0;
@@ -427,7 +459,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   preparePcaSampleModel (sums, n, fit, N0, t1, t2, md);
 
   SampleCovariance<S> acc;
-  acc.reset ();
+  acc.reset (centre);
 #if !defined(__CUDACC__)
   Vec3<S> dP;
   S a1, a2;

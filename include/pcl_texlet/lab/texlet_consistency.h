@@ -6,11 +6,12 @@
  * noise model and the recording's camera) at the same hexagonal-grid centres in each of a
  * subsample of frames. Per centre, over the frames where its texlet is valid, the mean P and the
  * mean N (normalised) are taken; then per frame the normalised estimation error squared (NEES)
- *   P:  (P - mean P)^T Sigma_P^-1 (P - mean P)                       (3 degrees of freedom)
+ *   P:  (P - mean P)^T Sigma_P^+ (P - mean P)        (rank(Sigma_P) degrees of freedom: 1 for P
+ *       on the centre ray, whose Sigma_P lies along it; 3 for the inliers' mean)
  *   N:  d^T Sigma_N^-1 d,  d = T^T (N - mean N), T = that texlet's tangentFrame ()  (2)
  * For a centre valid in n frames with equal covariances, the deviations from the estimated mean
- * have covariance Sigma (n - 1) / n, so the expected NEES is 3 (n - 1) / n for P and 2 (n - 1) / n
- * for N; the ideal of the mean over all (centre, frame) pairs is the same sum over centres
+ * have covariance Sigma (n - 1) / n, so the expected NEES is rank (n - 1) / n for P and
+ * 2 (n - 1) / n for N; the ideal of the mean over all (centre, frame) pairs is the same sum over centres
  * divided by the pairs. A ratio above 1 means the texlets are more certain than they should be.
  */
 #pragma once
@@ -46,6 +47,7 @@ struct TexletConsistencySettings
     * not the noise model (docs/model_lab.md).
     */
   double ransac_threshold_m = 1.0;
+  TexletCentre centre = TexletCentre::CentreRay; ///< the texlets' P (TexletEstimation's default)
 };
 
 /** \brief Mean NEES of texlet P and N across frames against their own covariances. */
@@ -55,11 +57,12 @@ struct TexletConsistency
   double nees_n = std::numeric_limits<double>::quiet_NaN ();  ///< mean NEES of N
   double nees_p_normal = std::numeric_limits<double>::quiet_NaN (); ///< mean NEES of P along the mean normal (1 dof)
   double ideal_p_normal = std::numeric_limits<double>::quiet_NaN (); ///< sum(n-1) / sum(n)
-  double ideal_p = std::numeric_limits<double>::quiet_NaN (); ///< its expectation when calibrated: 3 sum(n-1) / sum(n)
+  double ideal_p = std::numeric_limits<double>::quiet_NaN (); ///< its expectation when calibrated: sum over pairs of rank (n-1)/n, over the pairs
   double ideal_n = std::numeric_limits<double>::quiet_NaN (); ///< 2 sum(n-1) / sum(n)
   /** \brief Medians over the pairs, robust to a few texlets that jump (edges in real scenes).
-    * Each pair's NEES is (n - 1) / n times a chi-square variable (3 or 2 dof) when calibrated, so
-    * the ideal median is the median of (n - 1) / n over the pairs times 2.366 (P) or 1.386 (N).
+    * Each pair's NEES is (n - 1) / n times a chi-square variable (rank(Sigma_P) or 2 dof) when
+    * calibrated, so the ideal median is the median of (n - 1) / n over the pairs times 2.366 (P,
+    * each pair's NEES first scaled from its rank's chi-square median to 3 dof's) or 1.386 (N).
     */
   double median_p = std::numeric_limits<double>::quiet_NaN ();
   double median_n = std::numeric_limits<double>::quiet_NaN ();

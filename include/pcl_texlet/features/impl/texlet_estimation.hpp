@@ -273,6 +273,12 @@ TexletEstimation<PointInT, PointOutT>::setPlaneFitMethod (texlet::PlaneFitMethod
 }
 
 template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setCentreDefinition (texlet::TexletCentre centre)
+{
+  PCL_TEXLET_SETTER (centre, centre);
+}
+
+template <typename PointInT, typename PointOutT> void
 TexletEstimation<PointInT, PointOutT>::setUncertaintyMethod (texlet::UncertaintyMethod method)
 {
   PCL_TEXLET_SETTER (uncertainty, method);
