@@ -5,11 +5,13 @@
  *
  * Both methods keep the inlier set of the measured data fixed and perturb each inlier's depth
  * along its ray with its own SD. P is the texlet's centre (centre_ray.h): the inliers' mean, or
- * where the centre pixel's ray meets the plane, whose perturbation is a step along that ray. Monte Carlo (paper, Sect. 3.2) re-fits the plane for every
- * sample: monteCarloCovariance() draws every inlier's noise (the reference definition, used
- * for SVD and averaging); monteCarloPcaCovariance() draws the PCA fit's moments from a
- * statistically equivalent Gaussian model instead (pca_sampler.h); the analytic method is the first-order expansion of the same fit: the mean for P,
- * the eigenvector perturbation  de0 = -sum_j e_j (e_j' dC e0) / (l_j - l0)  for PCA and SVD,
+ * where the centre pixel's ray meets the plane, whose perturbation is a step along that ray.
+ * Monte Carlo (paper, Sect. 3.2) re-fits the plane for every sample: monteCarloCovariance()
+ * draws every inlier's noise (the reference definition, used for SVD and averaging);
+ * monteCarloPcaCovariance() draws the PCA fit's moments from a statistically equivalent
+ * Gaussian model instead (pca_sampler.h). The analytic method is the first-order expansion of
+ * the same fit: the mean (or the ray's step) for P, the eigenvector perturbation
+ * de0 = -sum_j e_j (e_j' dC e0) / (l_j - l0) for PCA and SVD,
  * and central differences of Eq. 5 for averaging.
  */
 #pragma once
