@@ -94,10 +94,10 @@ TEST (ModelLabTexlets, PaperModelIsCalibratedOnPaperNoise)
   EXPECT_NEAR (c.medianRatioP (), 1.0, 0.25); // measured 1.117
   EXPECT_NEAR (c.medianRatioN (), 1.0, 0.25); // measured 1.109
 
-  // With TexletEstimation's automatic RANSAC threshold a few points drop out at random in each
-  // frame. P on the centre ray does not move with them (measured 1.26); the inliers' mean, the
-  // paper's P, moves sideways, where its Sigma_P is tiny: its NEES is then thousands of times
-  // its ideal (N is hardly affected).
+  // With TexletEstimation's automatic RANSAC threshold a point drops out now and then. P on the
+  // centre ray does not move with it (measured 1.15); the inliers' mean, the paper's P, moves
+  // sideways, where its Sigma_P is tiny: its mean NEES is then over a hundred times its ideal
+  // (N is hardly affected).
   lab::TexletConsistencySettings ransac;
   ransac.ransac_threshold_m = 0;
   const lab::TexletConsistency r = lab::texletConsistency (recs, NoiseModel::paper (), ransac);
@@ -107,7 +107,7 @@ TEST (ModelLabTexlets, PaperModelIsCalibratedOnPaperNoise)
   ransac.centre = TexletCentre::InlierMean;
   const lab::TexletConsistency m = lab::texletConsistency (recs, NoiseModel::paper (), ransac);
   print ("paper noise, paper model, automatic RANSAC threshold, P the inliers' mean", m);
-  EXPECT_GT (m.ratioP (), 100.0);
+  EXPECT_GT (m.ratioP (), 30.0);
   EXPECT_NEAR (m.ratioN (), 1.0, 0.4);
 }
 

@@ -55,9 +55,10 @@ expectHonest (const std::vector<lab::RecordingMeasurement::ConstPtr> &recs, cons
     EXPECT_NEAR (c.medianRatioP (), 1.0, 0.3) << what << ", " << toString (method);
     EXPECT_NEAR (c.medianRatioN (), 1.0, 0.3) << what << ", " << toString (method);
   }
-  // The paper's P moves sideways with the inlier set, which Sigma_P does not hold.
+  // The paper's P moves sideways with the inlier set, which Sigma_P does not hold: where a
+  // point drops out, its NEES jumps (the median hardly shows it, the mean does).
   const lab::TexletConsistency mean = atDefaults (recs, UncertaintyMethod::Analytic, TexletCentre::InlierMean, what);
-  EXPECT_GT (mean.medianRatioP (), 3.0) << what;
+  EXPECT_GT (mean.ratioP (), 30.0) << what;
 }
 
 } // namespace

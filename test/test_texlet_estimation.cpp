@@ -199,20 +199,19 @@ TEST (TexletEstimation, SphereAndBoxNormalsMatchTruth)
 {
   const CameraSpec cam;
   const auto noise = pcl::texlet::NoiseModel::paper ();
+  const Render sphere = render (sphereScene (), cam, &noise, 5);
+  for (const auto centre : {pcl::texlet::TexletCentre::InlierMean, pcl::texlet::TexletCentre::CentreRay})
   {
-    const Render r = render (sphereScene (), cam, &noise, 5);
-    // The fitted normal belongs where the inliers are: at their mean. Where RANSAC keeps one side
-    // of a strongly curved disc, the centre ray's point lies off it (docs/texlet_covariances.md).
-    const auto out = extract (r.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::Analytic, noise, 6, 1, 1,
-                              pcl::texlet::TexletCentre::InlierMean);
+    const auto out = extract (sphere.cloud, cam, PlaneFitMethod::PCA, UncertaintyMethod::Analytic, noise, 6, 1, 1, centre);
     const Eigen::Vector3d c (0, 0, 1.3);
     int n = 0, within = 0;
     for (const auto &t : out)
     {
-      // Patches at the limb (centre off the sphere, or seen at grazing incidence) carry a
-      // curvature bias larger than the noise: this check is about the rest.
-      const Eigen::Vector3d &n_pixel = r.normals[t.pixel_index];
-      if (!std::isfinite (t.x) || n_pixel.isZero () || -n_pixel.dot (centreOf (t).normalized ()) < 0.5)
+      // Patches seen at more than 53 degrees (or at the limb) carry a curvature bias larger than
+      // the noise: obliquely, the disc spans more of the sphere (12-17 mrad at 55-60 degrees,
+      // docs/texlet_covariances.md). This check is about the rest.
+      const Eigen::Vector3d &n_pixel = sphere.normals[t.pixel_index];
+      if (!std::isfinite (t.x) || n_pixel.isZero () || -n_pixel.dot (centreOf (t).normalized ()) < 0.6)
         continue;
       // Truth at the patch centre: the sphere's radial direction through P.
       const double err = axisAngle (normalOf (t), (centreOf (t) - c).normalized ());
@@ -220,8 +219,11 @@ TEST (TexletEstimation, SphereAndBoxNormalsMatchTruth)
       within += err < 3 * sd + 0.005 ? 1 : 0; // 0.005 rad: the patch's own curvature bias
       ++n;
     }
-    ASSERT_GT (n, 150);
-    EXPECT_GT (within, 0.97 * n) << within << " of " << n;
+    ASSERT_GT (n, 130);
+    // The normal belongs where the inliers are, at their mean; the centre ray's point can lie a
+    // little off it where the inliers are not centred on the ray (measured 144 of 144, 141 of 145).
+    const double share = centre == pcl::texlet::TexletCentre::InlierMean ? 0.97 : 0.95;
+    EXPECT_GT (within, share * n) << within << " of " << n << ", centre " << pcl::texlet::toString (centre);
   }
   {
     const Render r = render (boxScene (), cam, &noise, 6);

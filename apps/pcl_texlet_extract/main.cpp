@@ -370,6 +370,10 @@ run (int argc, char **argv)
   app.add_option ("-t,--threshold", o.threshold_mm, "RANSAC inlier distance, mm (0: from the noise model)")
       ->capture_default_str ();
   app.add_option ("--sigmas", o.params.threshold_sigmas, "automatic threshold in depth SDs")->capture_default_str ();
+  app.add_option ("--robust-sigmas", o.params.robust_sigmas,
+                  "the automatic threshold widens to this many of the patch's own depth SDs where they exceed the "
+                  "model's (0: the model's threshold alone, the paper's)")
+      ->capture_default_str ();
   app.add_option ("-f,--fit", o.fit, "plane fit: pca, svd, averaging")->capture_default_str ();
   app.add_option ("--centre", o.centre,
                   "texlet centre P: ray (where the centre pixel's ray meets the plane) or mean (the inliers' mean, "

@@ -102,6 +102,45 @@ warpRansac (const kernels::TexletScratch<S> &ws, int count, const kernels::Texle
   return best;
 }
 
+/** refineInliers() over the warp: the refits and thresholds on every lane, the distances and the
+  * mask lane-strided (the warp has no scratch for the distances: they are recomputed).
+  */
+template <typename S> __device__ inline void
+warpRefineInliers (const kernels::Neighbourhood<S> &nb, S sigmas, int min_support, int lane, unsigned char *mask,
+                   kernels::Plane<S> &plane, S &threshold, int &inliers)
+{
+  namespace k = texlet::kernels;
+  const S model_threshold = threshold;
+  for (int pass = 0; pass < k::kRobustPasses; ++pass)
+  {
+    k::PlaneFit<S> fit;
+    if (!k::fitInliersPca (nb, mask, fit))
+      return;
+    const k::Plane<S> refit = k::planeOf (fit);
+    auto below = [&] (S t) {
+      int c = 0;
+      for (int q = lane; q < nb.count; q += 32)
+        c += k::pointPlaneDistance (refit, nb.point (q)) < t ? 1 : 0;
+      return warpSum (c);
+    };
+    const S tau = k::robustThreshold (model_threshold, k::truncatedMedian (S (k::kRobustReach) * model_threshold, below),
+                                      sigmas);
+    int count = 0;
+    for (int q = lane; q < nb.count; q += 32)
+      count += k::pointPlaneDistance (refit, nb.point (q)) <= tau ? 1 : 0;
+    count = warpSum (count);
+    if (count < min_support)
+      return;
+    __syncwarp ();
+    for (int q = lane; q < nb.count; q += 32)
+      mask[q] = k::pointPlaneDistance (refit, nb.point (q)) <= tau ? 1 : 0;
+    __syncwarp ();
+    plane = refit;
+    threshold = tau;
+    inliers = count;
+  }
+}
+
 /** Monte Carlo covariances, sample = lane, the sums reduced over the warp. */
 template <typename S> __device__ inline void
 warpMonteCarlo (const kernels::Neighbourhood<S> &nb, const unsigned char *mask, const bool ring_use[7],
@@ -193,11 +232,11 @@ texletWarpKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexG
       __syncwarp ();
       nb.sigma = ws.sigma;
     }
-    const S threshold = k::ransacThreshold (frame, fs, cu, cv, k::depthSum (ws.z, count), count);
+    S threshold = k::ransacThreshold (frame, fs, cu, cv, k::depthSum (ws.z, count), count);
 
     // 2. RANSAC, lane = hypothesis.
     k::Plane<S> plane = {{S (0), S (0), S (0)}, S (0)};
-    const int best = warpRansac (ws, count, st, threshold, centre, lane, plane);
+    int best = warpRansac (ws, count, st, threshold, centre, lane, plane);
 
     // 3. The inliers (lane-strided), then the fit on every lane: PCA, and for averaging the ring.
     k::PlaneFit<S> fit;
@@ -208,6 +247,8 @@ texletWarpKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexG
       for (int q = lane; q < count; q += 32)
         ws.mask[q] = k::isInlier (plane, nb.point (q), threshold) ? 1 : 0;
       __syncwarp ();
+      if (st.robust_sigmas > S (0))
+        warpRefineInliers (nb, st.robust_sigmas, k::minSupport (st), lane, ws.mask, plane, threshold, best);
       fitted = k::fitInliersPca (nb, ws.mask, fit) &&
                (st.fit != texlet::PlaneFitMethod::Averaging || k::averageRingNormal (nb, plane, threshold, ring_use, fit));
     }

@@ -30,6 +30,7 @@ frameSettings (const TexletParameters &p, const float viewpoint[3], const kernel
   fs.kernel.viewpoint = {S (viewpoint[0]), S (viewpoint[1]), S (viewpoint[2])};
   fs.fixed_threshold = p.ransac_threshold;
   fs.threshold_sigmas = p.threshold_sigmas;
+  fs.kernel.robust_sigmas = p.ransac_threshold == 0.0 ? S (p.robust_sigmas) : S (0);
   fs.disc = disc;
   kernels::hexRingOffsets (p.radius, fs.ring_du, fs.ring_dv);
   fs.need_sigma = p.uncertainty != UncertaintyMethod::None;

@@ -104,6 +104,17 @@ public:
   double
   getRansacThresholdSigmas () const { return params_.threshold_sigmas; }
 
+  /** \brief How far the automatic threshold widens where the patch's own noise is larger than
+    * the model's (default 4): after RANSAC the inliers are refitted, and the threshold becomes the
+    * larger of the model's and this many of the patch's own SDs (1.4826 times the median distance
+    * to that plane of the disc's points within 4 model thresholds of it); twice. 0: the paper's
+    * threshold from the model alone. A fixed threshold (setRansacThreshold) is never widened.
+    */
+  void
+  setRobustThresholdSigmas (double sigmas);
+  double
+  getRobustThresholdSigmas () const { return params_.robust_sigmas; }
+
   /** \brief Plane fit: PCA (default), SVD or Averaging. */
   void
   setPlaneFitMethod (texlet::PlaneFitMethod method);

@@ -24,6 +24,7 @@ struct TexletParameters
   int ransac_iterations = 20;      ///< RANSAC hypotheses per texlet (1 .. 100000)
   double ransac_threshold = 0.0;   ///< point-to-plane inlier distance, metres; 0 = from the noise model
   double threshold_sigmas = 3.0;   ///< automatic threshold = this many depth SDs at the patch
+  double robust_sigmas = 4.0;      ///< the automatic threshold widens to this many of the patch's own SDs; 0: never
   PlaneFitMethod fit = PlaneFitMethod::PCA;
   TexletCentre centre = TexletCentre::CentreRay; ///< which point of the plane is P
   UncertaintyMethod uncertainty = UncertaintyMethod::MonteCarlo;
@@ -71,6 +72,8 @@ parameterProblem (const TexletParameters &p)
            "must be a finite distance in metres, or 0 for the noise model's");
   require (p.threshold_sigmas > 0.0 && std::isfinite (p.threshold_sigmas), "threshold_sigmas", p.threshold_sigmas,
            "must be positive");
+  require (p.robust_sigmas >= 0.0 && std::isfinite (p.robust_sigmas), "robust_sigmas", p.robust_sigmas,
+           "must be a finite number of SDs, or 0 for the model's threshold alone");
   require (p.samples >= 2, "samples", p.samples, "must be at least 2 for a covariance");
   require (p.samples <= 100000, "samples", p.samples, "must be at most 100000");
   require (p.min_support >= 3, "min_support", p.min_support, "must be at least 3 points");

@@ -1,7 +1,8 @@
 /*
  * pcl_texlet kernels: one texlet from its neighbourhood (paper, Sect. 3.2, steps 2 and 3).
  *
- * RANSAC marks the inliers, the chosen fit gives the plane and N, N is turned toward the
+ * RANSAC marks the inliers (then, with the automatic threshold, the patch's own residual scale
+ * may widen them, robust_inliers.h), the chosen fit gives the plane and N, N is turned toward the
  * viewpoint, the centre definition gives P (centre_ray.h), and the chosen propagation gives
  * Sigma_P and Sigma_N. Each step is a stage function of its
  * own, so the GPU's warp strategy can spread them over lanes (src/gpu/texlet_warp_kernel.cuh)
@@ -15,6 +16,7 @@
 #include <pcl_texlet/kernels/neighbourhood.h>
 #include <pcl_texlet/kernels/plane_fit.h>
 #include <pcl_texlet/kernels/ransac.h>
+#include <pcl_texlet/kernels/robust_inliers.h>
 #include <pcl_texlet/kernels/tangent_frame.h>
 #include <pcl_texlet/kernels/uncertainty.h>
 
@@ -30,6 +32,7 @@ struct TexletSettings
 {
   int ransac_iterations = 20;
   S threshold = S (0);           ///< point-to-plane inlier distance, same unit as the points
+  S robust_sigmas = S (0);       ///< > 0: refineInliers() with this many of the patch's own SDs
   PlaneFitMethod fit = PlaneFitMethod::PCA;
   TexletCentre centre = TexletCentre::CentreRay;
   UncertaintyMethod uncertainty = UncertaintyMethod::MonteCarlo;
@@ -198,16 +201,20 @@ computeTexlet (const Neighbourhood<S> &nb, const TexletSettings<S> &st, std::uin
     return;
 
   markInliers (plane, nb.x, nb.y, nb.z, nb.count, st.threshold, mask);
+  S threshold = st.threshold;
+  int support = inliers;
+  if (st.robust_sigmas > S (0))
+    refineInliers (nb, st.robust_sigmas, min_support, work, mask, plane, threshold, support);
   PlaneFit<S> fit;
   bool ring_use[7];
-  if (!fitTexletPlane (nb, mask, plane, st.threshold, st.fit, work, fit, ring_use))
+  if (!fitTexletPlane (nb, mask, plane, threshold, st.fit, work, fit, ring_use))
     return;
   const Vec3<S> N = faceViewpoint (fit.N, fit.P, st.viewpoint);
   Vec3<S> t1, t2;
   tangentFrame (N, t1, t2);
   const TexletCentrePoint<S> centre = texletCentre (nb, fit, N, t1, t2, st.centre, st.fit);
   texletUncertainty (nb, mask, ring_use, fit, centre, st, texlet, work, out.cov_p, out.cov_n);
-  finishTexlet (fit, centre, inliers, out);
+  finishTexlet (fit, centre, support, out);
 }
 
 } // namespace kernels

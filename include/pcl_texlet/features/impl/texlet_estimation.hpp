@@ -273,6 +273,12 @@ TexletEstimation<PointInT, PointOutT>::setPlaneFitMethod (texlet::PlaneFitMethod
 }
 
 template <typename PointInT, typename PointOutT> void
+TexletEstimation<PointInT, PointOutT>::setRobustThresholdSigmas (double sigmas)
+{
+  PCL_TEXLET_SETTER (robust_sigmas, sigmas);
+}
+
+template <typename PointInT, typename PointOutT> void
 TexletEstimation<PointInT, PointOutT>::setCentreDefinition (texlet::TexletCentre centre)
 {
   PCL_TEXLET_SETTER (centre, centre);
