@@ -102,43 +102,40 @@ warpRansac (const kernels::TexletScratch<S> &ws, int count, const kernels::Texle
   return best;
 }
 
-/** refineInliers() over the warp: the refits and thresholds on every lane, the distances and the
-  * mask lane-strided (the warp has no scratch for the distances: they are recomputed).
+/** refineInliers() over the warp: the refit and threshold on every lane, the distances and the
+  * mask lane-strided (the warp has no scratch for the distances: they are recomputed, and the
+  * median's bin counts are found by bisection instead of a histogram).
   */
 template <typename S> __device__ inline void
 warpRefineInliers (const kernels::Neighbourhood<S> &nb, S sigmas, int min_support, int lane, unsigned char *mask,
                    kernels::Plane<S> &plane, S &threshold, int &inliers)
 {
   namespace k = texlet::kernels;
-  const S model_threshold = threshold;
-  for (int pass = 0; pass < k::kRobustPasses; ++pass)
-  {
-    k::PlaneFit<S> fit;
-    if (!k::fitInliersPca (nb, mask, fit))
-      return;
-    const k::Plane<S> refit = k::planeOf (fit);
-    auto below = [&] (S t) {
-      int c = 0;
-      for (int q = lane; q < nb.count; q += 32)
-        c += k::pointPlaneDistance (refit, nb.point (q)) < t ? 1 : 0;
-      return warpSum (c);
-    };
-    const S tau = k::robustThreshold (model_threshold, k::truncatedMedian (S (k::kRobustReach) * model_threshold, below),
-                                      sigmas);
-    int count = 0;
+  k::PlaneFit<S> fit;
+  if (!k::fitInliersPca (nb, mask, fit))
+    return;
+  const k::Plane<S> refit = k::planeOf (fit);
+  const S reach = S (k::kRobustReach) * threshold, inv_width = S (k::kRobustBins) / reach;
+  auto below = [&] (int b) {
+    int c = 0;
     for (int q = lane; q < nb.count; q += 32)
-      count += k::pointPlaneDistance (refit, nb.point (q)) <= tau ? 1 : 0;
-    count = warpSum (count);
-    if (count < min_support)
-      return;
-    __syncwarp ();
-    for (int q = lane; q < nb.count; q += 32)
-      mask[q] = k::pointPlaneDistance (refit, nb.point (q)) <= tau ? 1 : 0;
-    __syncwarp ();
-    plane = refit;
-    threshold = tau;
-    inliers = count;
-  }
+      c += k::distanceBin (k::pointPlaneDistance (refit, nb.point (q)), inv_width) < b ? 1 : 0;
+    return warpSum (c);
+  };
+  const S tau = k::robustThreshold (threshold, k::binnedMedian (reach, below), sigmas);
+  int count = 0;
+  for (int q = lane; q < nb.count; q += 32)
+    count += k::pointPlaneDistance (refit, nb.point (q)) <= tau ? 1 : 0;
+  count = warpSum (count);
+  if (count < min_support)
+    return;
+  __syncwarp ();
+  for (int q = lane; q < nb.count; q += 32)
+    mask[q] = k::pointPlaneDistance (refit, nb.point (q)) <= tau ? 1 : 0;
+  __syncwarp ();
+  plane = refit;
+  threshold = tau;
+  inliers = count;
 }
 
 /** Monte Carlo covariances, sample = lane, the sums reduced over the warp. */

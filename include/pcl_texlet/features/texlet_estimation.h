@@ -107,7 +107,7 @@ public:
   /** \brief How far the automatic threshold widens where the patch's own noise is larger than
     * the model's (default 4): after RANSAC the inliers are refitted, and the threshold becomes the
     * larger of the model's and this many of the patch's own SDs (1.4826 times the median distance
-    * to that plane of the disc's points within 4 model thresholds of it); twice. 0: the paper's
+    * to that plane of the disc's points within 4 model thresholds of it). 0: the paper's
     * threshold from the model alone. A fixed threshold (setRansacThreshold) is never widened.
     */
   void

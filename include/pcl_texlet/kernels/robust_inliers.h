@@ -6,8 +6,9 @@
  * plain least-squares fit. So after RANSAC, the inliers are refitted, and every disc point's
  * distance to that plane is measured. The patch's own noise scale is 1.4826 times the median
  * distance of the points within kRobustReach model thresholds (the points of other surfaces lie
- * beyond), and the threshold becomes the larger of the model's and the same multiple of that
- * scale. The inliers are then marked again against the refitted plane.
+ * beyond; the median is interpolated within a bin of a histogram of the distances), and the
+ * threshold becomes the larger of the model's and robust_sigmas of that scale. The inliers are
+ * then marked again against the refitted plane.
  * (docs/texlet_covariances.md.)
  */
 #pragma once
@@ -29,11 +30,8 @@ namespace kernels
   */
 constexpr int kRobustReach = 4;
 
-/** \brief Refit-and-mark passes after RANSAC. */
-constexpr int kRobustPasses = 2;
-
-/** \brief Bisection steps of the median distance: its resolution is 2^-12 of the reach. */
-constexpr int kRobustMedianSteps = 12;
+/** \brief Bins of the distances up to the reach: the median is interpolated within one. */
+constexpr int kRobustBins = 64;
 
 /** \brief The plane of \a fit (its normal through its P) as RANSAC's plane type. */
 template <typename S> PCL_TEXLET_HD Plane<S>
@@ -42,25 +40,37 @@ planeOf (const PlaneFit<S> &fit)
   return {fit.N, -dot (fit.N, fit.P)};
 }
 
-/** \brief The median of the distances below \a reach, by bisection: \a below (t) counts the
-  * distances below t. \return 0 when there is none
+/** \brief The bin of distance \a d for bins of 1 / \a inv_width (kRobustBins of them up to the
+  * reach; beyond it: kRobustBins or more).
   */
-template <typename S, typename CountBelow> PCL_TEXLET_HD S
-truncatedMedian (S reach, const CountBelow &below)
+template <typename S> PCL_TEXLET_HD int
+distanceBin (S d, S inv_width)
 {
-  const int half = (below (reach) + 1) / 2;
-  S lo = S (0), hi = reach;
+  const S b = d * inv_width;
+  return b < S (kRobustBins) ? static_cast<int> (b) : kRobustBins;
+}
+
+/** \brief The median of the distances below \a reach, interpolated within its bin:
+  * \a below (b) counts the distances whose distanceBin() is below b (0 <= b <= kRobustBins).
+  * \return 0 when there is none
+  */
+template <typename S, typename CountBelowBin> PCL_TEXLET_HD S
+binnedMedian (S reach, const CountBelowBin &below)
+{
+  const int half = (below (kRobustBins) + 1) / 2;
   if (half == 0)
     return S (0);
-  for (int step = 0; step < kRobustMedianSteps; ++step)
+  int lo = 0, hi = kRobustBins; // below (lo) < half <= below (hi)
+  while (hi - lo > 1)
   {
-    const S mid = S (0.5) * (lo + hi);
+    const int mid = (lo + hi) / 2;
     if (below (mid) >= half)
       hi = mid;
     else
       lo = mid;
   }
-  return S (0.5) * (lo + hi);
+  const int c_lo = below (lo), c_hi = below (hi);
+  return (S (lo) + S (half - c_lo) / S (c_hi - c_lo)) * (reach / S (kRobustBins));
 }
 
 /** \brief The inlier threshold from the model's \a threshold and the median distance \a median
@@ -73,12 +83,15 @@ robustThreshold (S threshold, S median, S sigmas)
   return own > threshold ? own : threshold;
 }
 
-/** \brief One pass of refineInliers(). \return false (nothing changed) where the inliers have
-  * no plane or fewer than \a min_support points would remain
+/** \brief Refits the inliers (\a mask) of \a nb and marks them again against that plane with
+  * robustThreshold() of the model's \a threshold.
+  * \param work scratch of nb.count values (the distances)
+  * \param plane, threshold, inliers RANSAC's, replaced by the refitted plane, its threshold and
+  *        inlier count unless the inliers have no plane or fewer than \a min_support would remain
   */
-template <typename S> PCL_TEXLET_HD bool
-refineInliersOnce (const Neighbourhood<S> &nb, S sigmas, S model_threshold, int min_support, S *work,
-                   unsigned char *mask, Plane<S> &plane, S &threshold, int &inliers)
+template <typename S> PCL_TEXLET_HD void
+refineInliers (const Neighbourhood<S> &nb, S sigmas, int min_support, S *work, unsigned char *mask, Plane<S> &plane,
+               S &threshold, int &inliers)
 {
   PlaneMoments<S> m;
   m.reset (nb.point (0));
@@ -87,46 +100,35 @@ refineInliersOnce (const Neighbourhood<S> &nb, S sigmas, S model_threshold, int 
       m.add (nb.point (k));
   PlaneFit<S> fit;
   if (!fitPlanePca (m, fit))
-    return false;
+    return;
   const Plane<S> refit = planeOf (fit);
   const int n = nb.count;
+  const S *x = nb.x, *y = nb.y, *z = nb.z;
+  for (int k = 0; k < n; ++k) // the operations of pointPlaneDistance, over the arrays
+    work[k] = std::fabs (refit.n.x * x[k] + refit.n.y * y[k] + refit.n.z * z[k] + refit.d);
+  const S reach = S (kRobustReach) * threshold, inv_width = S (kRobustBins) / reach;
+  int cumulative[kRobustBins + 2] = {}; // cumulative[b + 1]: distances in bin b, then summed
   for (int k = 0; k < n; ++k)
-    work[k] = pointPlaneDistance (refit, nb.point (k));
-  const S median = truncatedMedian (S (kRobustReach) * model_threshold, [&] (S t) {
-    int c = 0;
-    for (int k = 0; k < n; ++k)
-      c += work[k] < t ? 1 : 0;
-    return c;
-  });
-  const S tau = robustThreshold (model_threshold, median, sigmas);
+    ++cumulative[distanceBin (work[k], inv_width) + 1];
+  for (int b = 1; b <= kRobustBins; ++b)
+    cumulative[b] += cumulative[b - 1];
+  const S median = binnedMedian (reach, [&] (int b) { return cumulative[b]; });
+  const S tau = robustThreshold (threshold, median, sigmas);
   int count = 0;
   for (int k = 0; k < n; ++k)
-    count += work[k] <= tau ? 1 : 0;
+  {
+    const bool in = work[k] <= tau;
+    mask[k] = in ? 1 : 0;
+    count += in ? 1 : 0;
+  }
   if (count < min_support)
-    return false;
-  for (int k = 0; k < n; ++k)
-    mask[k] = work[k] <= tau ? 1 : 0;
+  {
+    markInliers (plane, x, y, z, n, threshold, mask); // RANSAC's inliers back
+    return;
+  }
   plane = refit;
   threshold = tau;
   inliers = count;
-  return true;
-}
-
-/** \brief Refits the inliers (\a mask) of \a nb and marks them again against that plane with
-  * robustThreshold() of the model's \a threshold, kRobustPasses times (a few inliers more or
-  * fewer move the plane, and so the distances).
-  * \param work scratch of nb.count values (the distances)
-  * \param plane, threshold, inliers RANSAC's, replaced by the last refitted plane, its threshold
-  *        and inlier count (those of the last pass that left at least \a min_support points)
-  */
-template <typename S> PCL_TEXLET_HD void
-refineInliers (const Neighbourhood<S> &nb, S sigmas, int min_support, S *work, unsigned char *mask, Plane<S> &plane,
-               S &threshold, int &inliers)
-{
-  const S model_threshold = threshold;
-  for (int pass = 0; pass < kRobustPasses; ++pass)
-    if (!refineInliersOnce (nb, sigmas, model_threshold, min_support, work, mask, plane, threshold, inliers))
-      return;
 }
 
 } // namespace kernels
