@@ -4,10 +4,10 @@
  * RANSAC marks the inliers (then, with the automatic threshold, the patch's own residual scale
  * may widen them, robust_inliers.h), the chosen fit gives the plane and N, N is turned toward the
  * viewpoint, the centre definition gives P (centre_ray.h), and the chosen propagation gives
- * Sigma_P and Sigma_N. Each step is a stage function of its
- * own, so the GPU's warp strategy can spread them over lanes (src/gpu/texlet_warp_kernel.cuh)
- * without restating them. computeTexlet() allocates nothing: the caller passes an inlier mask
- * of nb.count bytes and a work buffer of texletWorkSize (nb.count) values.
+ * Sigma_P and Sigma_N. Each step is a stage function of its own, so the GPU's warp strategy can
+ * spread them over lanes (src/gpu/texlet_warp_kernel.cuh) without restating them.
+ * computeTexlet() allocates nothing: the caller passes an inlier mask of nb.count bytes and a
+ * work buffer of texletWorkSize (nb.count) values.
  */
 #pragma once
 

@@ -257,9 +257,9 @@ struct InlineTexletKernel
 };
 
 /** \brief The texlet centred on pixel (cu, cv) of \a frame into \a out: the disc's valid points
-  * in disc order, the ring, the centre ray, per-point depth SDs, the threshold, then \a kernel (computeTexlet()
-  * or a build of it) keyed by the centre pixel's index, the frame's variance rescale and the
-  * inliers' mean colour. \return false (and a failed texlet) where none could be made
+  * in disc order, the ring, the centre ray, per-point depth SDs, the threshold, then \a kernel
+  * (computeTexlet() or a build of it) keyed by the centre pixel's index, the frame's variance
+  * rescale and the inliers' mean colour. \return false (and a failed texlet) where none could be made
   */
 template <typename S, typename Frame, typename Kernel, typename Out> PCL_TEXLET_HD bool
 frameTexlet (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, const TexletScratch<S> &ws,
