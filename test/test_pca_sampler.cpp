@@ -82,20 +82,17 @@ struct MeasuredFit
 {
   PlaneFit<double> fit;
   Vec3<double> N, t1, t2;
+  TexletCentrePoint<double> centre; ///< the inliers' mean, the sampler tests' reference point
   bool ok = false;
 
   MeasuredFit (const Neighbourhood<double> &nb, const unsigned char *mask)
   {
-    PlaneMoments<double> m;
-    m.reset (nb.point (0));
-    for (int k = 0; k < nb.count; ++k)
-      if (mask[k])
-        m.add (nb.point (k));
-    ok = fitPlanePca (m, fit);
+    ok = fitInliersPca (nb, mask, fit);
     N = fit.N;
     if (dot (N, make3 (0.0, 0.0, 0.0) - fit.P) < 0)
       N = -N;
     tangentFrame (N, t1, t2);
+    centre = texletCentre (nb, fit, N, t1, t2, TexletCentre::InlierMean, PlaneFitMethod::PCA);
   }
 };
 
@@ -332,7 +329,7 @@ TEST (PcaSampler, KernelEqualsTheSampleBySamplePieces)
     ASSERT_TRUE (m.ok);
     const int samples = 50 + trial;
     double cov_p[6], cov_n[3];
-    monteCarloPcaCovariance (patch.nb, mask.data (), m.fit, samples, 3u, 500u + trial, m.N, m.t1, m.t2, cov_p, cov_n);
+    monteCarloPcaCovariance (patch.nb, mask.data (), m.fit, samples, 3u, 500u + trial, m.centre, cov_p, cov_n);
 
     // As the warp strategy spreads them: the sums strided over 32 lanes, one sample a lane.
     const PcaModelBasis<double> basis = pcaModelBasis (m.fit);
@@ -380,8 +377,8 @@ compareSamplers (const Patch &patch, const unsigned char *mask, int samples, std
   const bool ring_use[7] = {true, true, true, true, true, true, true};
   std::vector<double> work (texletWorkSize (patch.nb.count));
   double new_p[6], new_n[3], ref_p[6], ref_n[3];
-  monteCarloPcaCovariance (patch.nb, mask, m.fit, samples, 17u, texlet, m.N, m.t1, m.t2, new_p, new_n);
-  monteCarloCovariance (patch.nb, mask, ring_use, PlaneFitMethod::PCA, samples, 17u, texlet, m.fit.P, m.N, m.t1, m.t2,
+  monteCarloPcaCovariance (patch.nb, mask, m.fit, samples, 17u, texlet, m.centre, new_p, new_n);
+  monteCarloCovariance (patch.nb, mask, ring_use, PlaneFitMethod::PCA, samples, 17u, texlet, m.fit.P, m.centre,
                         work.data (), ref_p, ref_n);
   const auto se = [samples] (double cii, double cjj, double cij) {
     return std::sqrt (2.0 * (cii * cjj + cij * cij) / (samples - 1));
@@ -454,7 +451,7 @@ TEST (PcaSampler, DegenerateNeighbourhoodsGiveNaNNotACrash)
   // Fewer than three inliers.
   std::vector<unsigned char> two (patch.nb.count, 0);
   two[0] = two[5] = 1;
-  monteCarloPcaCovariance (patch.nb, two.data (), m.fit, 50, 1u, 1u, m.N, m.t1, m.t2, cov_p, cov_n);
+  monteCarloPcaCovariance (patch.nb, two.data (), m.fit, 50, 1u, 1u, m.centre, cov_p, cov_n);
   for (double v : cov_p)
     EXPECT_TRUE (std::isnan (v));
   for (double v : cov_n)
@@ -472,8 +469,8 @@ TEST (PcaSampler, DegenerateNeighbourhoodsGiveNaNNotACrash)
   const bool ring_use[7] = {true, true, true, true, true, true, true};
   std::vector<double> work (texletWorkSize (line.nb.count));
   double ref_p[6], ref_n[3];
-  monteCarloPcaCovariance (line.nb, mask.data (), m.fit, 50, 1u, 1u, m.N, m.t1, m.t2, cov_p, cov_n);
-  monteCarloCovariance (line.nb, mask.data (), ring_use, PlaneFitMethod::PCA, 50, 1u, 1u, m.fit.P, m.N, m.t1, m.t2,
+  monteCarloPcaCovariance (line.nb, mask.data (), m.fit, 50, 1u, 1u, m.centre, cov_p, cov_n);
+  monteCarloCovariance (line.nb, mask.data (), ring_use, PlaneFitMethod::PCA, 50, 1u, 1u, m.fit.P, m.centre,
                         work.data (), ref_p, ref_n);
   for (int i = 0; i < 3; ++i)
   {
@@ -485,7 +482,7 @@ TEST (PcaSampler, DegenerateNeighbourhoodsGiveNaNNotACrash)
   for (double &s : still.sigma)
     s = 0.0;
   still.bind ();
-  monteCarloPcaCovariance (still.nb, mask.data (), m.fit, 50, 1u, 1u, m.N, m.t1, m.t2, cov_p, cov_n);
+  monteCarloPcaCovariance (still.nb, mask.data (), m.fit, 50, 1u, 1u, m.centre, cov_p, cov_n);
   for (double v : cov_p)
     EXPECT_NEAR (v, 0.0, 1e-20);
   for (double v : cov_n)

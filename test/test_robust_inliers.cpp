@@ -20,34 +20,6 @@ using pcl::texlet::UncertaintyMethod;
 namespace
 {
 
-Scene
-tiltedWall (double tilt_x_deg, double tilt_y_deg, double distance)
-{
-  const double ax = tilt_x_deg * M_PI / 180, ay = tilt_y_deg * M_PI / 180;
-  const Eigen::Vector3d n = (Eigen::AngleAxisd (ax, Eigen::Vector3d::UnitX ()) *
-                             Eigen::AngleAxisd (ay, Eigen::Vector3d::UnitY ()) * Eigen::Vector3d (0, 0, -1));
-  Scene s;
-  s.add<PlaneSurface> (n, Eigen::Vector3d (0, 0, distance));
-  return s;
-}
-
-Scene
-sphere ()
-{
-  Scene s;
-  s.add<SphereSurface> (Eigen::Vector3d (0, 0, 1.3), 0.45);
-  return s;
-}
-
-Scene
-boxOnWall ()
-{
-  Scene s;
-  s.add<BoxSurface> (Eigen::Vector3d (-0.12, -0.10, 0.9), Eigen::Vector3d (0.18, 0.14, 1.2));
-  s.add<PlaneSurface> (Eigen::Vector3d (0.1, 0.2, -1), Eigen::Vector3d (0, 0, 1.5));
-  return s;
-}
-
 pcl::PointCloud<pcl::Texlet>
 texlets (const Render &r, const CameraSpec &cam, double threshold)
 {
@@ -132,9 +104,9 @@ errors (const Scene &scene, double noise_factor, std::uint32_t seed, bool edges)
 TEST (RobustInliers, SmoothSurfacesAreNeverWorseThanLeastSquares)
 {
   for (const double factor : {1.0, 2.0, 3.0})
-    for (const auto &[name, scene] : {std::pair<const char *, Scene>{"wall 1.2 m", tiltedWall (10, -25, 1.2)},
-                                      {"wall 2.5 m", tiltedWall (-5, 35, 2.5)},
-                                      {"sphere", sphere ()}})
+    for (const auto &[name, scene] : {std::pair<const char *, Scene>{"wall 1.2 m", tiltedPlane (10, -25, 1.2)},
+                                      {"wall 2.5 m", tiltedPlane (-5, 35, 2.5)},
+                                      {"sphere", sphereScene ()}})
     {
       const Errors e = errors (scene, factor, 100 + static_cast<std::uint32_t> (factor), false);
       ASSERT_GT (e.texlet.size (), 200u);
@@ -150,7 +122,7 @@ TEST (RobustInliers, DepthEdgesKeepTheirSurfaceWhenTheModelIsWrong)
 {
   for (const double factor : {1.0, 2.0, 3.0})
   {
-    const Errors e = errors (boxOnWall (), factor, 200 + static_cast<std::uint32_t> (factor), true);
+    const Errors e = errors (boxScene (), factor, 200 + static_cast<std::uint32_t> (factor), true);
     ASSERT_GT (e.texlet.size (), 100u);
     const double t = quantile (e.texlet, 0.9), l = quantile (e.ls, 0.9);
     std::cout << "box on a wall, noise " << factor << " x model, discs across a depth edge: p90 normal error texlet "

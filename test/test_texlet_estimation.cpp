@@ -50,35 +50,6 @@ extract (const pcl::PointCloud<pcl::PointXYZ> &cloud, const CameraSpec &cam, Pla
   return out;
 }
 
-Scene
-tiltedPlane (double tilt_x_deg, double tilt_y_deg, double distance)
-{
-  const double ax = tilt_x_deg * M_PI / 180, ay = tilt_y_deg * M_PI / 180;
-  const Eigen::Vector3d n = (Eigen::AngleAxisd (ax, Eigen::Vector3d::UnitX ()) *
-                             Eigen::AngleAxisd (ay, Eigen::Vector3d::UnitY ()) * Eigen::Vector3d (0, 0, -1));
-  Scene s;
-  s.add<PlaneSurface> (n, Eigen::Vector3d (0, 0, distance));
-  return s;
-}
-
-Scene
-sphereScene ()
-{
-  Scene s;
-  s.add<SphereSurface> (Eigen::Vector3d (0, 0, 1.3), 0.45);
-  return s;
-}
-
-Scene
-boxScene ()
-{
-  // A box on a wall behind it: faces at three orientations plus depth edges.
-  Scene s;
-  s.add<BoxSurface> (Eigen::Vector3d (-0.12, -0.10, 0.9), Eigen::Vector3d (0.18, 0.14, 1.2));
-  s.add<PlaneSurface> (Eigen::Vector3d (0.1, 0.2, -1), Eigen::Vector3d (0, 0, 1.5));
-  return s;
-}
-
 /** True normal at the surface point under a texlet's centre pixel. */
 Eigen::Vector3d
 trueNormal (const Render &r, const pcl::Texlet &t) { return r.normals[t.pixel_index]; }

@@ -106,14 +106,13 @@ warpRansac (const kernels::TexletScratch<S> &ws, int count, const kernels::Texle
   * mask lane-strided (the warp has no scratch for the distances: they are recomputed, and the
   * median's bin counts are found by bisection instead of a histogram).
   */
-template <typename S> __device__ inline void
+template <typename S> __device__ inline bool
 warpRefineInliers (const kernels::Neighbourhood<S> &nb, S sigmas, int min_support, int lane, unsigned char *mask,
-                   kernels::Plane<S> &plane, S &threshold, int &inliers)
+                   kernels::Plane<S> &plane, S &threshold, int &inliers, kernels::PlaneFit<S> &fit)
 {
   namespace k = texlet::kernels;
-  k::PlaneFit<S> fit;
   if (!k::fitInliersPca (nb, mask, fit))
-    return;
+    return false;
   const k::Plane<S> refit = k::planeOf (fit);
   const S reach = S (k::kRobustReach) * threshold, inv_width = S (k::kRobustBins) / reach;
   auto below = [&] (int b) {
@@ -128,14 +127,21 @@ warpRefineInliers (const kernels::Neighbourhood<S> &nb, S sigmas, int min_suppor
     count += k::pointPlaneDistance (refit, nb.point (q)) <= tau ? 1 : 0;
   count = warpSum (count);
   if (count < min_support)
-    return;
+    return true; // the mask is still RANSAC's
   __syncwarp ();
+  bool changed = false;
   for (int q = lane; q < nb.count; q += 32)
-    mask[q] = k::pointPlaneDistance (refit, nb.point (q)) <= tau ? 1 : 0;
+  {
+    const unsigned char in = k::pointPlaneDistance (refit, nb.point (q)) <= tau ? 1 : 0;
+    changed |= in != mask[q];
+    mask[q] = in;
+  }
+  changed = __any_sync (kFull, changed);
   __syncwarp ();
   plane = refit;
   threshold = tau;
   inliers = count;
+  return !changed;
 }
 
 /** Monte Carlo covariances, sample = lane, the sums reduced over the warp. */
@@ -244,9 +250,12 @@ texletWarpKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexG
       for (int q = lane; q < count; q += 32)
         ws.mask[q] = k::isInlier (plane, nb.point (q), threshold) ? 1 : 0;
       __syncwarp ();
-      if (st.robust_sigmas > S (0))
-        warpRefineInliers (nb, st.robust_sigmas, k::minSupport (st), lane, ws.mask, plane, threshold, best);
-      fitted = k::fitInliersPca (nb, ws.mask, fit) &&
+      // The refinement's refit is the inliers' PCA plane when it left them as they were.
+      const bool pca_fitted =
+          (st.robust_sigmas > S (0) &&
+           warpRefineInliers (nb, st.robust_sigmas, k::minSupport (st), lane, ws.mask, plane, threshold, best, fit)) ||
+          k::fitInliersPca (nb, ws.mask, fit);
+      fitted = pca_fitted &&
                (st.fit != texlet::PlaneFitMethod::Averaging || k::averageRingNormal (nb, plane, threshold, ring_use, fit));
     }
 
@@ -261,7 +270,7 @@ texletWarpKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexG
       if (st.uncertainty == texlet::UncertaintyMethod::MonteCarlo)
         warpMonteCarlo (nb, ws.mask, ring_use, fit, point, st, centre, lane, r.cov_p, r.cov_n);
       else if (st.uncertainty == texlet::UncertaintyMethod::Analytic)
-        k::analyticCovariance (nb, ws.mask, ring_use, st.fit, fit, point, N, t1, t2, r.cov_p, r.cov_n);
+        k::analyticCovariance (nb, ws.mask, ring_use, st.fit, fit, point, r.cov_p, r.cov_n);
       else
       {
         k::fillNaN (r.cov_p, 6);

@@ -127,6 +127,37 @@ struct Scene
 };
 
 /** A render: the noisy organised cloud and its ground truth per pixel. */
+/** A plane at \a distance on the optical axis, facing the camera turned by the two tilts (degrees). */
+inline Scene
+tiltedPlane (double tilt_x_deg, double tilt_y_deg, double distance)
+{
+  const double ax = tilt_x_deg * M_PI / 180, ay = tilt_y_deg * M_PI / 180;
+  const Eigen::Vector3d n = (Eigen::AngleAxisd (ax, Eigen::Vector3d::UnitX ()) *
+                             Eigen::AngleAxisd (ay, Eigen::Vector3d::UnitY ()) * Eigen::Vector3d (0, 0, -1));
+  Scene s;
+  s.add<PlaneSurface> (n, Eigen::Vector3d (0, 0, distance));
+  return s;
+}
+
+/** A sphere of radius 0.45 m, 1.3 m ahead: every incidence angle. */
+inline Scene
+sphereScene ()
+{
+  Scene s;
+  s.add<SphereSurface> (Eigen::Vector3d (0, 0, 1.3), 0.45);
+  return s;
+}
+
+/** A box on a wall behind it: faces at three orientations plus depth edges. */
+inline Scene
+boxScene ()
+{
+  Scene s;
+  s.add<BoxSurface> (Eigen::Vector3d (-0.12, -0.10, 0.9), Eigen::Vector3d (0.18, 0.14, 1.2));
+  s.add<PlaneSurface> (Eigen::Vector3d (0.1, 0.2, -1), Eigen::Vector3d (0, 0, 1.5));
+  return s;
+}
+
 struct Render
 {
   pcl::PointCloud<pcl::PointXYZ> cloud;

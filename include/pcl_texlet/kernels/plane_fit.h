@@ -7,6 +7,7 @@
  */
 #pragma once
 
+#include <pcl_texlet/kernels/neighbourhood.h>
 #include <pcl_texlet/kernels/sym_eigen3.h>
 
 namespace pcl
@@ -103,6 +104,18 @@ fitPlanePca (const PlaneMoments<S> &m, PlaneFit<S> &fit)
   for (int i = 0; i < 3; ++i)
     fit.lambda[i] = eig.values[i] > S (0) ? eig.values[i] : S (0);
   return true;
+}
+
+/** \brief The PCA plane of the points of \a nb marked in \a mask. \return false if they have none */
+template <typename S> PCL_TEXLET_HD bool
+fitInliersPca (const Neighbourhood<S> &nb, const unsigned char *mask, PlaneFit<S> &fit)
+{
+  PlaneMoments<S> m;
+  m.reset (nb.point (0)); // any point of the patch keeps the sums small
+  for (int k = 0; k < nb.count; ++k)
+    if (mask[k])
+      m.add (nb.point (k));
+  return fitPlanePca (m, fit);
 }
 
 /** \brief SVD plane of \a n centred points stored row-major in \a a (n x 3, overwritten), by

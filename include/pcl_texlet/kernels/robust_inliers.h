@@ -88,19 +88,17 @@ robustThreshold (S threshold, S median, S sigmas)
   * \param work scratch of nb.count values (the distances)
   * \param plane, threshold, inliers RANSAC's, replaced by the refitted plane, its threshold and
   *        inlier count unless the inliers have no plane or fewer than \a min_support would remain
+  *        (then the mask is RANSAC's again)
+  * \param fit the refit (fitInliersPca() of the inliers it started from)
+  * \return whether \a fit is the PCA plane of the inliers it leaves in \a mask (they have one, and
+  *         the mask came back as it was)
   */
-template <typename S> PCL_TEXLET_HD void
+template <typename S> PCL_TEXLET_HD bool
 refineInliers (const Neighbourhood<S> &nb, S sigmas, int min_support, S *work, unsigned char *mask, Plane<S> &plane,
-               S &threshold, int &inliers)
+               S &threshold, int &inliers, PlaneFit<S> &fit)
 {
-  PlaneMoments<S> m;
-  m.reset (nb.point (0));
-  for (int k = 0; k < nb.count; ++k)
-    if (mask[k])
-      m.add (nb.point (k));
-  PlaneFit<S> fit;
-  if (!fitPlanePca (m, fit))
-    return;
+  if (!fitInliersPca (nb, mask, fit))
+    return false;
   const Plane<S> refit = planeOf (fit);
   const int n = nb.count;
   const S *x = nb.x, *y = nb.y, *z = nb.z;
@@ -115,20 +113,23 @@ refineInliers (const Neighbourhood<S> &nb, S sigmas, int min_support, S *work, u
   const S median = binnedMedian (reach, [&] (int b) { return cumulative[b]; });
   const S tau = robustThreshold (threshold, median, sigmas);
   int count = 0;
+  bool changed = false;
   for (int k = 0; k < n; ++k)
   {
-    const bool in = work[k] <= tau;
-    mask[k] = in ? 1 : 0;
-    count += in ? 1 : 0;
+    const unsigned char in = work[k] <= tau ? 1 : 0;
+    changed |= in != mask[k];
+    mask[k] = in;
+    count += in;
   }
   if (count < min_support)
   {
     markInliers (plane, x, y, z, n, threshold, mask); // RANSAC's inliers back
-    return;
+    return true;
   }
   plane = refit;
   threshold = tau;
   inliers = count;
+  return !changed;
 }
 
 } // namespace kernels

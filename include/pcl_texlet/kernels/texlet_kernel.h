@@ -68,18 +68,6 @@ minSupport (const TexletSettings<S> &st)
   return st.min_support > 3 ? st.min_support : 3;
 }
 
-/** \brief The PCA plane of the inliers (\a mask) of \a nb. \return false if they have none */
-template <typename S> PCL_TEXLET_HD bool
-fitInliersPca (const Neighbourhood<S> &nb, const unsigned char *mask, PlaneFit<S> &fit)
-{
-  PlaneMoments<S> m;
-  m.reset (nb.point (0)); // any point of the patch keeps the sums small
-  for (int k = 0; k < nb.count; ++k)
-    if (mask[k])
-      m.add (nb.point (k));
-  return fitPlanePca (m, fit);
-}
-
 /** \brief Replaces the PCA plane \a fit of the inliers by their SVD plane (centred on the
   * same mean). \param work scratch of texletWorkSize (nb.count) values
   */
@@ -116,18 +104,17 @@ averageRingNormal (const Neighbourhood<S> &nb, const Plane<S> &plane, S threshol
   return true;
 }
 
-/** \brief The plane fit \a method of the inliers (\a mask) of the RANSAC \a plane: the PCA fit,
-  * then for SVD its refit and for averaging the ring's normal (\a ring_use: which ring points
-  * it used; none for PCA and SVD). \return false where no plane is defined
+/** \brief The plane fit \a method of the inliers (\a mask) of the RANSAC \a plane from their PCA
+  * plane \a fit (fitInliersPca()): PCA keeps it, SVD refits it and averaging takes the ring's
+  * normal (\a ring_use: which ring points it used; none for PCA and SVD).
+  * \return false where no plane is defined
   */
 template <typename S> PCL_TEXLET_HD bool
-fitTexletPlane (const Neighbourhood<S> &nb, const unsigned char *mask, const Plane<S> &plane, S threshold,
-                PlaneFitMethod method, S *work, PlaneFit<S> &fit, bool ring_use[7])
+fitByMethod (const Neighbourhood<S> &nb, const unsigned char *mask, const Plane<S> &plane, S threshold,
+             PlaneFitMethod method, S *work, PlaneFit<S> &fit, bool ring_use[7])
 {
   for (int i = 0; i < 7; ++i)
     ring_use[i] = false;
-  if (!fitInliersPca (nb, mask, fit))
-    return false;
   if (method == PlaneFitMethod::SVD)
     return refitInliersSvd (nb, mask, work, fit);
   if (method == PlaneFitMethod::Averaging)
@@ -150,18 +137,16 @@ texletUncertainty (const Neighbourhood<S> &nb, const unsigned char *mask, const 
                    const PlaneFit<S> &fit, const TexletCentrePoint<S> &centre, const TexletSettings<S> &st,
                    std::uint32_t texlet, S *work, S cov_p[6], S cov_n[3])
 {
-  const Vec3<S> &N = centre.N0, &t1 = centre.t1, &t2 = centre.t2;
   switch (st.uncertainty)
   {
   case UncertaintyMethod::Analytic:
-    analyticCovariance (nb, mask, ring_use, st.fit, fit, centre, N, t1, t2, cov_p, cov_n);
+    analyticCovariance (nb, mask, ring_use, st.fit, fit, centre, cov_p, cov_n);
     break;
   case UncertaintyMethod::MonteCarlo:
     if (st.fit == PlaneFitMethod::PCA)
-      monteCarloPcaCovariance (nb, mask, fit, st.samples, st.seed, texlet, N, t1, t2, cov_p, cov_n, centre);
+      monteCarloPcaCovariance (nb, mask, fit, st.samples, st.seed, texlet, centre, cov_p, cov_n);
     else
-      monteCarloCovariance (nb, mask, ring_use, st.fit, st.samples, st.seed, texlet, fit.P, N, t1, t2, work, cov_p,
-                            cov_n, centre);
+      monteCarloCovariance (nb, mask, ring_use, st.fit, st.samples, st.seed, texlet, fit.P, centre, work, cov_p, cov_n);
     break;
   default:
     fillNaN (cov_p, 6);
@@ -203,11 +188,13 @@ computeTexlet (const Neighbourhood<S> &nb, const TexletSettings<S> &st, std::uin
   markInliers (plane, nb.x, nb.y, nb.z, nb.count, st.threshold, mask);
   S threshold = st.threshold;
   int support = inliers;
-  if (st.robust_sigmas > S (0))
-    refineInliers (nb, st.robust_sigmas, min_support, work, mask, plane, threshold, support);
   PlaneFit<S> fit;
+  // The refinement's refit is the inliers' PCA plane when it left them as they were.
+  const bool pca_fitted = (st.robust_sigmas > S (0) &&
+                           refineInliers (nb, st.robust_sigmas, min_support, work, mask, plane, threshold, support, fit)) ||
+                          fitInliersPca (nb, mask, fit);
   bool ring_use[7];
-  if (!fitTexletPlane (nb, mask, plane, threshold, st.fit, work, fit, ring_use))
+  if (!pca_fitted || !fitByMethod (nb, mask, plane, threshold, st.fit, work, fit, ring_use))
     return;
   const Vec3<S> N = faceViewpoint (fit.N, fit.P, st.viewpoint);
   Vec3<S> t1, t2;

@@ -205,12 +205,12 @@ analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], cons
 template <typename S> PCL_TEXLET_HD void
 analyticCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const bool ring_use[7],
                     PlaneFitMethod method, const PlaneFit<S> &fit, const TexletCentrePoint<S> &centre,
-                    const Vec3<S> &N, const Vec3<S> &t1, const Vec3<S> &t2, S cov_p[6], S cov_n[3])
+                    S cov_p[6], S cov_n[3])
 {
   if (method == PlaneFitMethod::Averaging)
-    analyticAveragingCovariance (nb, ring_use, N, t1, t2, cov_p, cov_n);
+    analyticAveragingCovariance (nb, ring_use, centre.N0, centre.t1, centre.t2, cov_p, cov_n);
   else
-    analyticPlaneCovariance (nb, mask, fit, centre, t1, t2, cov_p, cov_n);
+    analyticPlaneCovariance (nb, mask, fit, centre, centre.t1, centre.t2, cov_p, cov_n);
 }
 
 /** \brief Accumulates samples of (P - P0) and of the normal's tangent components. A sample
@@ -346,15 +346,14 @@ inlierSample (const Neighbourhood<S> &nb, const unsigned char *mask, PlaneFitMet
 }
 
 /** \brief Monte Carlo covariances: \a samples re-fits (averagingSample() for normal averaging,
-  * inlierSample() for PCA and SVD) around the measured P0 (the inliers' mean) and N0, of the
-  * texlet's \a centre.
+  * inlierSample() for PCA and SVD) around the measured P0 (the inliers' mean) and normal
+  * centre.N0, of the texlet's \a centre (texletCentre()).
   * \param work scratch of 3 * nb.count values (used by the SVD fit only)
   */
 template <typename S> PCL_TEXLET_HD void
 monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const bool ring_use[7],
                       PlaneFitMethod method, int samples, std::uint32_t seed, std::uint32_t texlet,
-                      const Vec3<S> &P0, const Vec3<S> &N0, const Vec3<S> &t1, const Vec3<S> &t2,
-                      S *work, S cov_p[6], S cov_n[3], const TexletCentrePoint<S> &centre = TexletCentrePoint<S> ())
+                      const Vec3<S> &P0, const TexletCentrePoint<S> &centre, S *work, S cov_p[6], S cov_n[3])
 {
   SampleCovariance<S> acc;
   acc.reset (centre);
@@ -365,7 +364,7 @@ monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, con
                         ? averagingSample (nb, ring_use, seed, texlet, s, P, N)
                         : inlierSample (nb, mask, method, seed, texlet, s, P0, work, P, N);
     if (ok)
-      addMonteCarloSample (P, N, P0, N0, t1, t2, acc);
+      addMonteCarloSample (P, N, P0, centre.N0, centre.t1, centre.t2, acc);
   }
   acc.finish (cov_p, cov_n);
 }
@@ -400,9 +399,8 @@ addPcaSample (const PcaSampleModel<S> &md, std::uint32_t seed, std::uint32_t tex
   */
 template <typename S> PCL_TEXLET_HD void
 monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit, int samples,
-                         std::uint32_t seed, std::uint32_t texlet, const Vec3<S> &N0, const Vec3<S> &t1,
-                         const Vec3<S> &t2, S cov_p[6], S cov_n[3],
-                         const TexletCentrePoint<S> &centre = TexletCentrePoint<S> ())
+                         std::uint32_t seed, std::uint32_t texlet, const TexletCentrePoint<S> &centre, S cov_p[6],
+                         S cov_n[3])
 {
   const PcaModelBasis<S> basis = pcaModelBasis (fit);
   int n = 0;
@@ -458,7 +456,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   addPcaModelPoints (nb, mask, basis, 0, 1, sums);
 #endif
   PcaSampleModel<S> md;
-  preparePcaSampleModel (sums, n, fit, N0, t1, t2, md);
+  preparePcaSampleModel (sums, n, fit, centre.N0, centre.t1, centre.t2, md);
 
   SampleCovariance<S> acc;
   acc.reset (centre);
