@@ -39,14 +39,12 @@ struct TexletConsistencySettings
   int min_frames = 3;    ///< fewest frames in which a centre's texlet must be valid to be used
   UncertaintyMethod uncertainty = UncertaintyMethod::Analytic; ///< how Sigma_P, Sigma_N are propagated
   unsigned threads = 0;  ///< OpenMP threads of TexletEstimation (0: all)
-  /** \brief RANSAC inlier distance, metres; 0: TexletEstimation's automatic one (3 depth SDs).
-    * Default 1 m: every point of the disc is an inlier, so texlet k is fitted to the same pixels
-    * in every frame. With the automatic threshold a few points drop out at random in each frame
-    * and move the centroid P sideways, along directions where Sigma_P (which is conditional on
-    * the inlier set) is about 1e-4 of its axial variance: the NEES of P then measures RANSAC,
-    * not the noise model (docs/model_lab.md).
+  /** \brief RANSAC inlier distance, metres; 0 (default): TexletEstimation's automatic one (3 depth
+    * SDs of the model, widened by the patch's own residual scale), as a user extracts them. With
+    * P on the centre ray, points that drop out in a frame move P only with the plane; 1 m makes
+    * every disc point an inlier (the check before the centre ray, docs/model_lab.md).
     */
-  double ransac_threshold_m = 1.0;
+  double ransac_threshold_m = 0.0;
   TexletCentre centre = TexletCentre::CentreRay; ///< the texlets' P (TexletEstimation's default)
 };
 
