@@ -6,11 +6,14 @@
  * 1 when honest). On walls of the project's simulator and of the independent generator
  * (test/generators/independent_walls.py: noise drawn in depth, whole millimetres), whose noise
  * the paper's model describes, both propagations must be honest to 30 %; the paper's own
- * definition of P (the inliers' mean) must not be, as it moves with the inlier set.
+ * definition of P (the inliers' mean) must not be, as it moves with the inlier set. On walls
+ * with column stripes (both generators), with the model the lab fits to them, Sigma_P holds the
+ * offsets the disc shares to 50 %.
  */
 #include "support/generated_walls.h"
 #include "support/simulated_walls.h"
 
+#include <pcl_texlet/lab/model_lab.h>
 #include <pcl_texlet/lab/texlet_consistency.h>
 
 #include <gtest/gtest.h>
@@ -71,4 +74,49 @@ TEST (TexletCovariances, HonestAtDefaultSettingsOnSimulatedWalls)
 TEST (TexletCovariances, HonestAtDefaultSettingsOnGeneratedWalls)
 {
   expectHonest (pcl_texlet_test::generatedWalls (walls (), {}, 731, 30, 320), "generator walls");
+}
+
+namespace
+{
+
+/** Texlet NEES on striped walls with the model the lab fits to them (the paper's plus
+  * vertical_stripes), whose column offsets the disc shares (Neighbourhood::shared_fraction).
+  */
+void
+expectStripesInSigmaP (const std::vector<lab::RecordingMeasurement::ConstPtr> &recs, const std::string &what)
+{
+  lab::ModelLab lab;
+  for (const auto &r : recs)
+    lab.addRecording (r);
+  const NoiseModel model = lab.addEffect (NoiseModel::paper (), "vertical_stripes");
+  for (const UncertaintyMethod method : {UncertaintyMethod::Analytic, UncertaintyMethod::MonteCarlo})
+  {
+    lab::TexletConsistencySettings s;
+    s.uncertainty = method;
+    const lab::TexletConsistency c = lab::texletConsistency (recs, model, s);
+    std::cout << what << " + the lab's vertical_stripes, " << toString (method) << ": median NEES ratio P "
+              << c.medianRatioP () << " N " << c.medianRatioN () << ", mean NEES ratio P " << c.ratioP () << " N "
+              << c.ratioN () << " (" << c.texlets << " centres)\n";
+    ASSERT_GT (c.texlets, 3000) << what;
+    EXPECT_NEAR (c.medianRatioP (), 1.0, 0.5) << what << ", " << toString (method);
+    EXPECT_NEAR (c.ratioP (), 1.0, 0.5) << what << ", " << toString (method);
+    // N is over-confident where a band boundary crosses the disc and tilts the texlet, which a
+    // fully shared offset cannot do (docs/texlet_covariances.md): measured medians 1.5-2.2.
+    EXPECT_GT (c.medianRatioN (), 1.0) << what << ", " << toString (method);
+    EXPECT_LT (c.medianRatioN (), 3.0) << what << ", " << toString (method);
+  }
+}
+
+} // namespace
+
+TEST (TexletCovariances, StripesReachSigmaPOnSimulatedWalls)
+{
+  expectStripesInSigmaP (pcl_texlet_test::simulatedWalls (walls (), {"vertical_stripes"}, 22, 30, 320, 2),
+                         "simulator walls with stripes");
+}
+
+TEST (TexletCovariances, StripesReachSigmaPOnGeneratedWalls)
+{
+  expectStripesInSigmaP (pcl_texlet_test::generatedWalls (walls (), {"vertical_stripes"}, 733, 30, 320),
+                         "generator walls with stripes");
 }

@@ -173,7 +173,7 @@ warpMonteCarlo (const kernels::Neighbourhood<S> &nb, const unsigned char *mask, 
     if (n_in >= 3)
     {
       k::PcaSampleModel<S> md;
-      k::preparePcaSampleModel (sums, n_in, fit, N, t1, t2, md);
+      k::preparePcaSampleModel (sums, n_in, nb.shared_fraction, fit, N, t1, t2, md);
       for (int s = lane; s < st.samples; s += 32)
         k::addPcaSample (md, st.seed, centre, s, acc);
     }
@@ -235,7 +235,9 @@ texletWarpKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexG
       __syncwarp ();
       nb.sigma = ws.sigma;
     }
-    S threshold = k::ransacThreshold (frame, fs, cu, cv, k::depthSum (ws.z, count), count);
+    const double zsum = k::depthSum (ws.z, count);
+    nb.shared_fraction = k::discSharedFraction<S> (frame, cu, cv, zsum, count);
+    S threshold = k::ransacThreshold (frame, fs, cu, cv, zsum, count, nb.shared_fraction);
 
     // 2. RANSAC, lane = hypothesis.
     k::Plane<S> plane = {{S (0), S (0), S (0)}, S (0)};

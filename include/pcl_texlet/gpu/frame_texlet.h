@@ -209,7 +209,8 @@ backProjectPixel (const DeviceCamera &camera, int u, int v, std::uint16_t depth_
 
 /** \brief A device cloud with its camera and noise model as a frame of the texlet stages
   * (kernels/texlet_stages.h). The device has no per-pixel SD image (each SD comes from the
-  * model) and no incidence-angle term (no variance rescale).
+  * model), no incidence-angle term (no variance rescale) and no shared noise (its terms are
+  * polynomials of independent per-pixel noise).
   */
 struct DeviceFrame
 {
@@ -243,6 +244,9 @@ struct DeviceFrame
   }
   PCL_TEXLET_HD double
   sigma (int index, double z) const { return modelSigma (index % cloud.width, index / cloud.width, z); }
+  /** \brief None of the polynomial terms' variance is shared. */
+  PCL_TEXLET_HD double
+  sharedFraction (int, int, double) const { return 0.0; }
 
   PCL_TEXLET_HD bool
   hasColour () const { return colour; }

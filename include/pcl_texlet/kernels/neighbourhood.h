@@ -33,6 +33,11 @@ struct Neighbourhood
     * has_centre_ray is false where neither the centre nor a symmetric pair around it has a reading. */
   Vec3<S> centre_ray = {S (0), S (0), S (1)};
   bool has_centre_ray = false;
+  /** The part of each point's depth variance that every point of the patch shares (column
+    * bands, frame offsets: a noise that moves the patch as a whole): the depth noises of points
+    * i and j have covariance shared_fraction sigma_i sigma_j, and (1 - shared_fraction) sigma_i^2
+    * of each is its own. 0: independent noise. */
+  S shared_fraction = S (0);
 
   PCL_TEXLET_HD Vec3<S>
   point (int i) const { return {x[i], y[i], z[i]}; }

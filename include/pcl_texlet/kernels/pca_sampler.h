@@ -52,7 +52,8 @@ namespace kernels
 {
 
 /** \brief Standard normals one Monte Carlo sample of the PCA model draws: blocks 0..3 of the
-  * Philox stream (seed, texlet, sample), one more than the 15 it uses.
+  * Philox stream (seed, texlet, sample): 15 for the points' own noise, the last for the noise
+  * they share.
   */
 constexpr int kPcaSampleNormals = 16;
 
@@ -88,15 +89,19 @@ addPcaModelTerms (V *v, const V *q, const V *a)
     PCL_TEXLET_UNROLL_LOOP
     for (int j = i; j < 6; ++j, ++k)
       v[k] += A[i] * A[j];
+  PCL_TEXLET_UNROLL_LOOP
+  for (int i = 0; i < 9; ++i)
+    v[75 + i] += w[i];
 }
 
 /** \brief Sums over the inliers that define the Gaussian model of a PCA re-fit. */
 template <typename S>
 struct PcaModelSums
 {
-  static constexpr int kQ = 0, kQQ = 3, kWW = 9, kAA = 54, kCount = 75;
+  static constexpr int kQ = 0, kQQ = 3, kWW = 9, kAA = 54, kW = 75, kCount = 84;
   /** sum q (3), sum q q' (6, packed), sum w w' (45, packed 9x9; its leading 3x3 block is
-    * sum a a'), sum vec(A) vec(A)' (21, packed 6x6), w = (a, q a' + a q' packed), A = a a'. */
+    * sum a a'), sum vec(A) vec(A)' (21, packed 6x6), sum w (9), w = (a, q a' + a q' packed),
+    * A = a a'. */
   S v[kCount];
 
   PCL_TEXLET_HD void
@@ -122,8 +127,11 @@ struct PcaSampleModel
   Vec3<S> axes[3];               ///< N, e1, e2 of the measured fit (world frame)
   S mean[3];                     ///< (1/n) sum q
   S base[6];                     ///< (1/n) (sum q q' + sum a a'), packed
-  SemidefiniteFactor<S, 9> lin;  ///< of C_lin = (1/n^2) sum w w'
-  SemidefiniteFactor<S, 6> quad; ///< of C_quad = (2/n^2) sum vec(A) vec(A)'
+  SemidefiniteFactor<S, 9> lin;  ///< of C_lin = (1/n^2) sum w w' (its points' own part)
+  SemidefiniteFactor<S, 6> quad; ///< of C_quad = (2/n^2) sum vec(A) vec(A)' (likewise)
+  bool shared = false;           ///< a part of the noise is shared (shared_w, shared_a)
+  S shared_w[9];                 ///< sqrt(rho) (1/n) sum w: y's shared part per unit h0
+  S shared_a[6];                 ///< rho (1/n) sum A: the quadratic term's, per unit h0^2 - 1
   Vec3<S> n0, t1, t2;            ///< the reference normal and the tangent frame, in the basis
 };
 
@@ -187,9 +195,16 @@ addPcaModelPoints (const Neighbourhood<S> &nb, const unsigned char *mask, const 
 
 /** \brief Makes the model from the sums over \a n inliers; \a n0, \a t1, \a t2 are the
   * reference normal (samples are turned toward it) and the tangent frame, world frame.
+  *
+  * With a part \a rho of every point's noise shared by all (Neighbourhood::shared_fraction),
+  * g_k = sqrt(1 - rho) h_k + sqrt(rho) h0, h0 the sample's last normal (z[15]), drawn as it
+  * is: y = F9 z + sqrt(rho) h0 (1/n) sum w, and the quadratic term is its mean, plus
+  * rho (h0^2 - 1) (1/n) sum A exactly (a Gaussian there would let the variance along the rays go
+  * negative), plus a Gaussian of covariance (2/n^2)(1 - rho^2) sum vec(A) vec(A)' for the
+  * points' own and cross terms; all uncorrelated, as under the per-point sampler.
   */
 template <typename S> PCL_TEXLET_HD void
-preparePcaSampleModel (const PcaModelSums<S> &sums, int n, const PlaneFit<S> &fit, const Vec3<S> &n0,
+preparePcaSampleModel (const PcaModelSums<S> &sums, int n, S rho, const PlaneFit<S> &fit, const Vec3<S> &n0,
                        const Vec3<S> &t1, const Vec3<S> &t2, PcaSampleModel<S> &md)
 {
   typedef PcaModelSums<S> Sums;
@@ -202,20 +217,28 @@ preparePcaSampleModel (const PcaModelSums<S> &sums, int n, const PlaneFit<S> &fi
   for (int i = 0, k = 0; i < 3; ++i)
     for (int j = i; j < 3; ++j, ++k)
       md.base[k] = (sums.v[Sums::kQQ + k] + sums.v[Sums::kWW + packedIndex<9> (i, j)]) * inv_n;
+  md.shared = rho > S (0);
+  const S own = md.shared ? S (1) - rho : S (1), own_quad = md.shared ? S (1) - rho * rho : S (1);
   S c[45];
   for (int k = 0; k < 45; ++k)
-    c[k] = sums.v[Sums::kWW + k] * inv_n2;
+    c[k] = own * sums.v[Sums::kWW + k] * inv_n2;
   factorSemidefinite<S, 9> (c, md.lin);
   for (int k = 0; k < 21; ++k)
-    c[k] = S (2) * sums.v[Sums::kAA + k] * inv_n2;
+    c[k] = own_quad * S (2) * sums.v[Sums::kAA + k] * inv_n2;
   factorSemidefinite<S, 6> (c, md.quad);
+  const S root = md.shared ? std::sqrt (rho) : S (0);
+  for (int i = 0; i < 9; ++i)
+    md.shared_w[i] = root * sums.v[Sums::kW + i] * inv_n;
+  for (int i = 0, k = 0; i < 3; ++i) // sum A: the leading 3x3 block of sum w w'
+    for (int j = i; j < 3; ++j, ++k)
+      md.shared_a[k] = rho * sums.v[Sums::kWW + packedIndex<9> (i, j)] * inv_n;
   md.n0 = make3 (dot (n0, fit.N), dot (n0, fit.e1), dot (n0, fit.e2));
   md.t1 = make3 (dot (t1, fit.N), dot (t1, fit.e1), dot (t1, fit.e2));
   md.t2 = make3 (dot (t2, fit.N), dot (t2, fit.e1), dot (t2, fit.e2));
 }
 
 /** \brief The kPcaSampleNormals normals of sample \a sample, one at a time (the GPU's way):
-  * the bits of normalSamples() for blocks 0..3 at z[4 block + i] (z[15] is not used).
+  * the bits of normalSamples() for blocks 0..3 at z[4 block + i] (z[15]: the shared noise's).
   */
 template <typename S> PCL_TEXLET_HD void
 pcaSampleNormals (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, S z[kPcaSampleNormals])
@@ -243,6 +266,14 @@ pcaSampleMoments (const PcaSampleModel<S> &md, const V *z, V m[3], V c[6])
   V y[9], u[6];
   md.lin.apply (z, y);
   md.quad.apply (z + 9, u);
+  if (md.shared)
+  {
+    const V h0 = z[15], h2 = h0 * h0 - S (1);
+    for (int i = 0; i < 9; ++i)
+      y[i] += md.shared_w[i] * h0;
+    for (int k = 0; k < 6; ++k)
+      u[k] += md.shared_a[k] * h2;
+  }
   for (int i = 0; i < 3; ++i)
     m[i] = md.mean[i] + y[i];
   for (int i = 0, k = 0; i < 3; ++i)

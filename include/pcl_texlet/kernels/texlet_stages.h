@@ -11,6 +11,8 @@
  *   bool valid (const P &) const;                whether a point has a depth reading
  *   double sigma (int index, double z) const;    depth SD in metres of the point at a pixel, depth z
  *   double modelSigma (int u, int v, double z) const;  the noise model's depth SD there (metres)
+ *   double sharedFraction (int u, int v, double z) const;  the part of the model's depth variance
+ *       there that a texlet's disc shares (Neighbourhood::shared_fraction; 0: independent noise)
  *   bool hasColour () const;
  *   void addColour (int index, unsigned &r, unsigned &g, unsigned &b) const;  adds a pixel's colour
  *   double varianceScale (int cu, int cv, const TexletResult<S> &) const;  rescale of the
@@ -26,6 +28,7 @@
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/kernels/texlet_kernel.h>
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -167,13 +170,27 @@ pointSigmas (const Frame &frame, const TexletScratch<S> &ws, int first, int coun
 }
 
 /** \brief The RANSAC threshold of the texlet at (cu, cv): the fixed one, or threshold_sigmas
-  * depth SDs of the noise model at the centre pixel and the gathered points' mean depth.
+  * depth SDs of the noise model at the centre pixel and the gathered points' mean depth, less
+  * the part the disc shares (\a shared_fraction: it moves the plane, not a point off it).
   */
 template <typename S, typename Frame> PCL_TEXLET_HD S
-ransacThreshold (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, double zsum, int count)
+ransacThreshold (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, double zsum, int count,
+                 S shared_fraction)
 {
-  return static_cast<S> (fs.fixed_threshold > 0.0 ? fs.fixed_threshold
-                                                  : fs.threshold_sigmas * frame.modelSigma (cu, cv, zsum / count));
+  if (fs.fixed_threshold > 0.0)
+    return static_cast<S> (fs.fixed_threshold);
+  const double own = shared_fraction > S (0) ? std::sqrt (1.0 - static_cast<double> (shared_fraction)) : 1.0;
+  return static_cast<S> (fs.threshold_sigmas * frame.modelSigma (cu, cv, zsum / count) * own);
+}
+
+/** \brief The part of the noise model's depth variance that the disc around (cu, cv) shares, at
+  * the gathered points' mean depth, within [0, 1].
+  */
+template <typename S, typename Frame> PCL_TEXLET_HD S
+discSharedFraction (const Frame &frame, int cu, int cv, double zsum, int count)
+{
+  const double f = frame.sharedFraction (cu, cv, zsum / count);
+  return static_cast<S> (f > 0.0 ? (f < 1.0 ? f : 1.0) : 0.0);
 }
 
 /** \brief The inliers' mean colour as PCL's rgba word (alpha 255), 0 for a frame without colour. */
@@ -285,8 +302,9 @@ frameTexlet (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, con
     pointSigmas (frame, ws, 0, count, 1);
     nb.sigma = ws.sigma;
   }
+  nb.shared_fraction = discSharedFraction<S> (frame, cu, cv, zsum, count);
   TexletSettings<S> st = fs.kernel;
-  st.threshold = ransacThreshold (frame, fs, cu, cv, zsum, count);
+  st.threshold = ransacThreshold (frame, fs, cu, cv, zsum, count, nb.shared_fraction);
 
   TexletResult<S> r;
   kernel (nb, st, centre, ws.mask, ws.work, r);

@@ -42,15 +42,19 @@ fillNaN (S *c, int n)
     c[i] = S (NAN);
 }
 
-/** \brief Adds point \a k's first-order terms to lane sums (see analyticPlaneCovariance). */
+/** \brief Adds point \a k's first-order terms to lane sums (see analyticPlaneCovariance): the
+  * variance-weighted products of its Jacobians and, in \a cs, the SD-weighted Jacobians (r, j1,
+  * j2, a) that the shared part of the noise sums before it squares them.
+  */
 template <typename S> PCL_TEXLET_HD void
 analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k, const PlaneFit<S> &fit, S inv_d1,
-                    S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S inv_n, S e1m, S e2m, S cp[6], S cn[3], S &ct)
+                    S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S inv_n, S e1m, S e2m, S cp[6], S cn[3], S &ct,
+                    S cs[6])
 {
   const Vec3<S> p = nb.point (k);
   const Vec3<S> r = (S (1) / p.z) * p; // dp = r dz
   const Vec3<S> q = p - fit.P;
-  const S var = mask[k] ? nb.sigma[k] * nb.sigma[k] : S (0);
+  const S sd = mask[k] ? nb.sigma[k] : S (0), var = sd * sd;
   cp[0] += var * r.x * r.x; cp[1] += var * r.x * r.y; cp[2] += var * r.x * r.z;
   cp[3] += var * r.y * r.y; cp[4] += var * r.y * r.z; cp[5] += var * r.z * r.z;
   const S h = dot (q, fit.N), re0 = dot (r, fit.N);
@@ -62,11 +66,28 @@ analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k
   cn[2] += var * j2 * j2;
   const S a = re0 * inv_n + c1 * e1m + c2 * e2m;
   ct += var * a * a;
+  cs[0] += sd * r.x; cs[1] += sd * r.y; cs[2] += sd * r.z;
+  cs[3] += sd * j1; cs[4] += sd * j2; cs[5] += sd * a;
+}
+
+/** \brief Adds the shared part \a rho of the noise to covariances of independent noise:
+  * (1 - rho) times those (\a c, packed \a dim x \a dim) plus rho times the outer product of the
+  * SD-weighted Jacobians' sum \a g, scaled by \a scale.
+  */
+template <typename S, int dim> PCL_TEXLET_HD void
+addSharedNoise (S rho, const S *g, S scale, S *c)
+{
+  for (int i = 0, k = 0; i < dim; ++i)
+    for (int j = i; j < dim; ++j, ++k)
+      c[k] = (S (1) - rho) * c[k] + rho * scale * g[i] * g[j];
 }
 
 /** \brief First-order covariances of a PCA or SVD fit of the inliers (mask) of \a nb, with P
   * the texlet's \a centre. On the centre ray, P = ray (N.M) / (N.ray) moves by
-  * dt = (N.dM + dN.(M - P)) / (N.ray) along it, M the inliers' mean.
+  * dt = (N.dM + dN.(M - P)) / (N.ray) along it, M the inliers' mean. With a shared part rho of
+  * the noise (Neighbourhood::shared_fraction) the covariance of the depths is
+  * (1 - rho) diag(sigma^2) + rho sigma sigma', so each result is (1 - rho) J diag(sigma^2) J' +
+  * rho (J sigma)(J sigma)': one more sum per Jacobian row.
   * Points are summed in four interleaved lanes, which the compiler keeps in SIMD registers.
   */
 template <typename S> PCL_TEXLET_HD void
@@ -83,11 +104,11 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   const S e1t1 = dot (fit.e1, t1), e1t2 = dot (fit.e1, t2), e2t1 = dot (fit.e2, t1), e2t2 = dot (fit.e2, t2);
   // The ray step's terms: N.dM per point's dz is (N.r) / n, dN.(M - P) is c1 e1m + c2 e2m.
   const S inv_n = S (1) / S (n_in), e1m = dot (fit.e1, centre.mean_offset), e2m = dot (fit.e2, centre.mean_offset);
-  S cp[4][6], cn[4][3], ct[4] = {S (0), S (0), S (0), S (0)};
+  S cp[4][6], cn[4][3], ct[4] = {S (0), S (0), S (0), S (0)}, cs[4][6];
   for (int i = 0; i < 4; ++i)
   {
     for (int j = 0; j < 6; ++j)
-      cp[i][j] = S (0);
+      cp[i][j] = cs[i][j] = S (0);
     for (int j = 0; j < 3; ++j)
       cn[i][j] = S (0);
   }
@@ -95,7 +116,8 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
 #if defined(__GNUC__) && !defined(__CUDACC__)
   // The same terms as analyticPlaneTerms, four points at a time in vector types.
   typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
-  Lane lp[6] = {}, ln[3] = {}, lt = {};
+  Lane lp[6] = {}, ln[3] = {}, lt = {}, ls[6] = {};
+  const bool shared = nb.shared_fraction > S (0);
   for (int k = 0; k < full; k += 4)
   {
     Lane px, py, pz, sd;
@@ -109,7 +131,7 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     const Lane iz = S (1) / pz;
     const Lane rx = iz * px, ry = iz * py, rz = iz * pz;
     const Lane qx = px - fit.P.x, qy = py - fit.P.y, qz = pz - fit.P.z;
-    const Lane var = use * (sd * sd);
+    const Lane su = use * sd, var = su * sd;
     lp[0] += var * rx * rx; lp[1] += var * rx * ry; lp[2] += var * rx * rz;
     lp[3] += var * ry * ry; lp[4] += var * ry * rz; lp[5] += var * rz * rz;
     const Lane h = qx * fit.N.x + qy * fit.N.y + qz * fit.N.z, re0 = rx * fit.N.x + ry * fit.N.y + rz * fit.N.z;
@@ -123,11 +145,19 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     ln[2] += var * j2 * j2;
     const Lane a = re0 * inv_n + c1 * e1m + c2 * e2m;
     lt += var * a * a;
+    if (shared)
+    {
+      ls[0] += su * rx; ls[1] += su * ry; ls[2] += su * rz;
+      ls[3] += su * j1; ls[4] += su * j2; ls[5] += su * a;
+    }
   }
   for (int i = 0; i < 4; ++i)
   {
     for (int j = 0; j < 6; ++j)
+    {
       cp[i][j] = lp[j][i];
+      cs[i][j] = ls[j][i];
+    }
     for (int j = 0; j < 3; ++j)
       cn[i][j] = ln[j][i];
     ct[i] = lt[i];
@@ -136,14 +166,21 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   for (int k = 0; k < full; k += 4)
     for (int i = 0; i < 4; ++i)
       analyticPlaneTerms (nb, mask, k + i, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[i], cn[i],
-                          ct[i]);
+                          ct[i], cs[i]);
 #endif
   for (int k = full; k < nb.count; ++k)
     analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k - full],
-                        cn[k - full], ct[k - full]);
+                        cn[k - full], ct[k - full], cs[k - full]);
+  S g[6]; // the SD-weighted Jacobians' sums: r (3), j1, j2, a
+  for (int j = 0; j < 6; ++j)
+    g[j] = (cs[0][j] + cs[1][j]) + (cs[2][j] + cs[3][j]);
+  const S rho = nb.shared_fraction;
   if (centre.on)
   {
-    const S var_t = ((ct[0] + ct[1]) + (ct[2] + ct[3])) * centre.inv_n_ray * centre.inv_n_ray;
+    S var_t = (ct[0] + ct[1]) + (ct[2] + ct[3]);
+    if (rho > S (0))
+      addSharedNoise<S, 1> (rho, g + 5, S (1), &var_t);
+    var_t *= centre.inv_n_ray * centre.inv_n_ray;
     const Vec3<S> &r = centre.ray;
     cov_p[0] = var_t * r.x * r.x; cov_p[1] = var_t * r.x * r.y; cov_p[2] = var_t * r.x * r.z;
     cov_p[3] = var_t * r.y * r.y; cov_p[4] = var_t * r.y * r.z; cov_p[5] = var_t * r.z * r.z;
@@ -153,9 +190,13 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     const S inv_n2 = inv_n * inv_n;
     for (int j = 0; j < 6; ++j)
       cov_p[j] = ((cp[0][j] + cp[1][j]) + (cp[2][j] + cp[3][j])) * inv_n2;
+    if (rho > S (0))
+      addSharedNoise<S, 3> (rho, g, inv_n2, cov_p);
   }
   for (int j = 0; j < 3; ++j)
     cov_n[j] = (cn[0][j] + cn[1][j]) + (cn[2][j] + cn[3][j]);
+  if (rho > S (0))
+    addSharedNoise<S, 2> (rho, g + 3, S (1), cov_n);
 }
 
 /** \brief First-order covariances of normal averaging (P is the centre point), by central
@@ -172,6 +213,7 @@ analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], cons
   cov_p[3] = vc * rc.y * rc.y; cov_p[4] = vc * rc.y * rc.z; cov_p[5] = vc * rc.z * rc.z;
   for (int i = 0; i < 3; ++i)
     cov_n[i] = S (0);
+  S g[2] = {S (0), S (0)}; // the SD-weighted Jacobians' sum, for the shared part of the noise
   Vec3<S> ring[7];
   for (int i = 0; i < 7; ++i)
     ring[i] = nb.ring[i];
@@ -195,7 +237,11 @@ analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], cons
     cov_n[0] += var * j1 * j1;
     cov_n[1] += var * j1 * j2;
     cov_n[2] += var * j2 * j2;
+    g[0] += nb.ring_sigma[i] * j1;
+    g[1] += nb.ring_sigma[i] * j2;
   }
+  if (nb.shared_fraction > S (0))
+    addSharedNoise<S, 2> (nb.shared_fraction, g, S (1), cov_n);
 }
 
 /** \brief First-order covariances of the texlet's fit \a method: analyticAveragingCovariance()
@@ -278,6 +324,33 @@ addMonteCarloSample (const Vec3<S> &P, Vec3<S> N, const Vec3<S> &P0, const Vec3<
   acc.add (P - P0, dot (N, t1), dot (N, t2));
 }
 
+/** \brief The shared part of a Monte Carlo sample's noise: a point's standardised noise is
+  * sqrt(1 - rho) g + sqrt(rho) g0, its own normal g and the sample's g0 (Philox block
+  * kSharedNoiseBlock), so that two points' noises correlate by rho = nb.shared_fraction.
+  */
+template <typename S>
+struct SharedDraw
+{
+  /** \brief Philox block of the shared normal: beyond any disc's point blocks. */
+  static constexpr std::uint32_t kSharedNoiseBlock = 0x40000000u;
+  S own = S (1), common = S (0);
+
+  PCL_TEXLET_HD
+  SharedDraw (const Neighbourhood<S> &nb, std::uint32_t seed, std::uint32_t texlet, int s)
+  {
+    if (!(nb.shared_fraction > S (0)))
+      return;
+    float g[4];
+    normalQuad (seed, texlet, static_cast<std::uint32_t> (s), kSharedNoiseBlock, g);
+    own = std::sqrt (S (1) - nb.shared_fraction);
+    common = std::sqrt (nb.shared_fraction) * S (g[0]);
+  }
+
+  /** \brief A point's standardised noise from its own normal \a g. */
+  PCL_TEXLET_HD S
+  noise (float g) const { return own * S (g) + common; }
+};
+
 /** \brief Monte Carlo sample \a s of normal averaging: the used ring points (\a ring_use)
   * moved along their rays by depth noise from Philox counters (seed, texlet, s, point block),
   * and Eq. 5 on them. \return false where the sample has no normal
@@ -288,11 +361,13 @@ averagingSample (const Neighbourhood<S> &nb, const bool ring_use[7], std::uint32
 {
   float g[4];
   Vec3<S> ring[7];
+  const SharedDraw<S> shared (nb, seed, texlet, s);
   for (int i = 0; i < 7; ++i)
   {
     if ((i & 3) == 0)
       normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (i >> 2), g);
-    ring[i] = ring_use[i] ? (S (1) + S (g[i & 3]) * nb.ring_sigma[i] / nb.ring[i].z) * nb.ring[i] : nb.ring[i];
+    ring[i] = ring_use[i] ? (S (1) + shared.noise (g[i & 3]) * nb.ring_sigma[i] / nb.ring[i].z) * nb.ring[i]
+                          : nb.ring[i];
   }
   P = ring[0];
   return averagingNormal (ring, ring_use, N);
@@ -310,13 +385,14 @@ inlierSample (const Neighbourhood<S> &nb, const unsigned char *mask, PlaneFitMet
   float g[4];
   PlaneMoments<S> m;
   m.reset (P0);
+  const SharedDraw<S> shared (nb, seed, texlet, s);
   for (int k = 0; k < nb.count; ++k)
   {
     if ((k & 3) == 0)
       normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (k >> 2), g);
     if (!mask[k])
       continue;
-    const Vec3<S> p = (S (1) + S (g[k & 3]) * nb.sigma[k] / nb.z[k]) * nb.point (k);
+    const Vec3<S> p = (S (1) + shared.noise (g[k & 3]) * nb.sigma[k] / nb.z[k]) * nb.point (k);
     if (method == PlaneFitMethod::SVD)
     {
       work[3 * m.n + 0] = p.x;
@@ -456,7 +532,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   addPcaModelPoints (nb, mask, basis, 0, 1, sums);
 #endif
   PcaSampleModel<S> md;
-  preparePcaSampleModel (sums, n, fit, centre.N0, centre.t1, centre.t2, md);
+  preparePcaSampleModel (sums, n, nb.shared_fraction, fit, centre.N0, centre.t1, centre.t2, md);
 
   SampleCovariance<S> acc;
   acc.reset (centre);
@@ -478,9 +554,9 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
     for (int i = 0; i < ns; i += 4)
     {
-      Lane zl[kPcaSampleNormals - 1], ml[3], cl[6];
+      Lane zl[kPcaSampleNormals], ml[3], cl[6];
       PCL_TEXLET_UNROLL_LOOP
-      for (int j = 0; j < kPcaSampleNormals - 1; ++j)
+      for (int j = 0; j < kPcaSampleNormals; ++j)
         std::memcpy (&zl[j], zs[j] + i, sizeof (Lane));
       pcaSampleMoments (md, zl, ml, cl);
       for (int l = 0; l < 4 && i + l < ns; ++l)

@@ -102,6 +102,22 @@ public:
     return depthSigmaMetres (noise_, camera_, u, v, z, context_);
   }
 
+  /** The part of the model's depth variance at pixel (u, v) and depth z (metres) that a texlet's
+    * disc shares: the variance shared by a column of pixels within a frame (column bands,
+    * frame offsets) over the whole. A disc spans a dozen columns, which the column terms' bands
+    * (a sixth of the image and more) nearly always hold whole (docs/texlet_covariances.md).
+    */
+  double
+  sharedFraction (int u, int v, double z) const
+  {
+    if (polynomial_only_)
+      return 0.0;
+    const NoiseMoments m =
+        noise_.moments (PixelContextBuilder (context_).at (u, v, camera_.principalPointDistance (u, v), z * 1000.0));
+    const double total = m.sigma_mm * m.sigma_mm;
+    return total > 0.0 && std::isfinite (m.column_variance_mm2) ? m.column_variance_mm2 / total : 0.0;
+  }
+
   /** The depth variances are evaluated per pixel before the fit, at a frontal view (a pixel
     * alone has no normal). Once the texlet's normal is known, the model's variance at the
     * centre pixel for the texlet's own incidence angle (between N and the viewing ray) over
