@@ -131,17 +131,16 @@ TEST (ModelLabTexlets, StripesMakePaperTexletsOverconfidentUntilAdded)
   lab::TexletConsistency before, after;
   beforeAndAfter ("vertical_stripes", 22, before, after);
   // Measured: ratio 12569 (P), 210 (N) under the paper model. With the stripes added, the
-  // texlets take the column offsets as shared by their disc (Neighbourhood::shared_fraction):
-  // P 1.07 (median 1.18). Before they did (every pixel's variance independent) P was 125.
-  // N's median is 2.1 and its mean 69: a band boundary inside a disc (the 13 columns of one in
-  // about 20 % of the layouts at this width) tilts the texlet, which a fully shared offset
-  // cannot (docs/texlet_covariances.md).
+  // texlets take the column offsets as shared by their disc's columns, correlated by
+  // exp(-du / L) across them (kernels/shared_noise.h): P 1.13 (median 1.23). While they took
+  // them as independent per pixel, P was 125. N: mean 5.5, median 0.41: a band boundary
+  // crosses the disc in some frames only, and tilts it there (docs/texlet_covariances.md).
   EXPECT_GT (before.ratioP (), 100.0);
   EXPECT_GT (before.ratioN (), 100.0);
   EXPECT_NEAR (after.ratioP (), 1.0, 0.5);
   EXPECT_NEAR (after.medianRatioP (), 1.0, 0.5);
-  EXPECT_LT (after.ratioN (), before.ratioN ());
-  EXPECT_GT (after.medianRatioN (), 1.0);
+  EXPECT_LT (after.ratioN (), 10.0);
+  EXPECT_LT (after.medianRatioN (), 1.0);
 }
 
 TEST (ModelLabTexlets, RadialVarianceFallsWhenAdded)

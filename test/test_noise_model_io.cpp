@@ -144,6 +144,13 @@ TEST (EffectTerms, MomentsComposeAsTheSimulatorDraws)
   EXPECT_NEAR (mo.column_variance_mm2, 0.01 * J * J, 1e-9);
   EXPECT_NEAR (mo.frame_variance_mm2, 0.01 * J * J / 4, 1e-9);
   EXPECT_NEAR (mo.sigma_mm, std::sqrt (mo.variance_mm2 + mo.column_variance_mm2), 1e-12);
+  // Without the image's width the stripes' bands have no length in columns: all columns share.
+  EXPECT_EQ (mo.column_correlation_px, INFINITY);
+  // 4 bands: 3 cuts at random columns; columns du apart share a band with probability about
+  // exp(-3 du / width).
+  c.image_width_px = 640;
+  EXPECT_NEAR (m.moments (c).column_correlation_px, 640.0 / 3, 1e-9);
+  EXPECT_EQ (NoiseModel::paper ().moments (c).column_correlation_px, INFINITY);
 }
 
 TEST (EffectTerms, DriftAndDistortionAreBiases)

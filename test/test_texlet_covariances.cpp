@@ -8,7 +8,7 @@
  * the paper's model describes, both propagations must be honest to 30 %; the paper's own
  * definition of P (the inliers' mean) must not be, as it moves with the inlier set. On walls
  * with column stripes (both generators), with the model the lab fits to them, Sigma_P holds the
- * offsets the disc shares to 50 %.
+ * offsets the disc's columns share to 50 %.
  */
 #include "support/generated_walls.h"
 #include "support/simulated_walls.h"
@@ -100,10 +100,12 @@ expectStripesInSigmaP (const std::vector<lab::RecordingMeasurement::ConstPtr> &r
     ASSERT_GT (c.texlets, 3000) << what;
     EXPECT_NEAR (c.medianRatioP (), 1.0, 0.5) << what << ", " << toString (method);
     EXPECT_NEAR (c.ratioP (), 1.0, 0.5) << what << ", " << toString (method);
-    // N is over-confident where a band boundary crosses the disc and tilts the texlet, which a
-    // fully shared offset cannot do (docs/texlet_covariances.md): measured medians 1.5-2.2.
-    EXPECT_GT (c.medianRatioN (), 1.0) << what << ", " << toString (method);
-    EXPECT_LT (c.medianRatioN (), 3.0) << what << ", " << toString (method);
+    // N: a band boundary crosses the disc in some frames and tilts the texlet; Sigma_N holds it
+    // on average over the layouts (columns correlated by exp(-du / L)), so the NEES is a mixture:
+    // below its ideal in most frames, far above it in the few with a boundary. Measured: median
+    // ratio 0.28-0.47, mean 3.4-5.5 (with the disc sharing the offsets whole: 1.5-2.2 and 46-69).
+    EXPECT_LT (c.medianRatioN (), 1.0) << what << ", " << toString (method);
+    EXPECT_LT (c.ratioN (), 10.0) << what << ", " << toString (method);
   }
 }
 

@@ -236,7 +236,7 @@ texletWarpKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexG
       nb.sigma = ws.sigma;
     }
     const double zsum = k::depthSum (ws.z, count);
-    nb.shared_fraction = k::discSharedFraction<S> (frame, cu, cv, zsum, count);
+    k::discSharedNoise (frame, cu, cv, zsum, count, ws.pixel, nb);
     S threshold = k::ransacThreshold (frame, fs, cu, cv, zsum, count, nb.shared_fraction);
 
     // 2. RANSAC, lane = hypothesis.

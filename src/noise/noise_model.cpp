@@ -107,7 +107,7 @@ NoiseModel::moments (const PixelContext &ctx) const
     m.sigma_mm = std::nan ("");
     return m;
   }
-  double scaled = 0.0, unscaled = 0.0, factor = 1.0;
+  double scaled = 0.0, unscaled = 0.0, factor = 1.0, column_rate = 0.0;
   for (const auto &t : terms_)
   {
     if (t->scaledByFactors ())
@@ -115,11 +115,16 @@ NoiseModel::moments (const PixelContext &ctx) const
     else
       unscaled += t->variance (ctx);
     factor *= t->varianceFactor (ctx);
-    m.column_variance_mm2 += t->columnVariance (ctx);
+    const double column = t->columnVariance (ctx);
+    m.column_variance_mm2 += column;
+    if (column > 0.0)
+      column_rate += column / t->columnCorrelationPx (ctx); // 0 for an infinite length
     m.frame_variance_mm2 += t->frameVariance (ctx);
     m.bias_mm += t->bias (ctx);
   }
   m.variance_mm2 = scaled * factor + unscaled;
+  if (column_rate > 0.0 && m.column_variance_mm2 > 0.0)
+    m.column_correlation_px = m.column_variance_mm2 / column_rate;
   for (const auto &t : terms_)
     t->transformMoments (ctx, m.bias_mm, m.variance_mm2);
   const double s = std::sqrt (m.variance_mm2 + m.column_variance_mm2);

@@ -245,8 +245,8 @@ struct DeviceFrame
   PCL_TEXLET_HD double
   sigma (int index, double z) const { return modelSigma (index % cloud.width, index / cloud.width, z); }
   /** \brief None of the polynomial terms' variance is shared. */
-  PCL_TEXLET_HD double
-  sharedFraction (int, int, double) const { return 0.0; }
+  PCL_TEXLET_HD kernels::SharedNoise
+  sharedNoise (int, int, double) const { return kernels::SharedNoise (); }
 
   PCL_TEXLET_HD bool
   hasColour () const { return colour; }

@@ -33,14 +33,32 @@ struct Neighbourhood
     * has_centre_ray is false where neither the centre nor a symmetric pair around it has a reading. */
   Vec3<S> centre_ray = {S (0), S (0), S (1)};
   bool has_centre_ray = false;
-  /** The part of each point's depth variance that every point of the patch shares (column
-    * bands, frame offsets: a noise that moves the patch as a whole): the depth noises of points
-    * i and j have covariance shared_fraction sigma_i sigma_j, and (1 - shared_fraction) sigma_i^2
-    * of each is its own. 0: independent noise. */
+  /** The part of each point's depth variance shared with the other points (column bands, frame
+    * offsets): the depth noises of points i and j have covariance
+    * shared_fraction sigma_i sigma_j column_correlation^|u_i - u_j| (u: their columns), and
+    * (1 - shared_fraction) sigma_i^2 of each is its own. 0: independent noise. */
   S shared_fraction = S (0);
+  /** The correlation of the shared part between adjacent columns, in (0, 1]; 1: the whole patch
+    * shares it. Below 1 the columns come from pixel[k] % width. */
+  S column_correlation = S (1);
+  const int *pixel = nullptr; ///< the points' pixel indices (v * width + u), for their columns
+  int width = 0;              ///< the image's width, pixels
 
   PCL_TEXLET_HD Vec3<S>
   point (int i) const { return {x[i], y[i], z[i]}; }
+
+  /** \brief Point \a i's column. */
+  PCL_TEXLET_HD int
+  column (int i) const { return pixel[i] % width; }
+};
+
+/** \brief What a frame tells about the depth noise that a texlet's points share (the noise
+  * model's column variance over the whole, and its correlation length across columns).
+  */
+struct SharedNoise
+{
+  double fraction = 0.0;            ///< Neighbourhood::shared_fraction
+  double column_correlation_px = 0; ///< columns over which the correlation falls by e; <= 0 or inf: no fall
 };
 
 } // namespace kernels

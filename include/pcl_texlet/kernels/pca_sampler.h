@@ -42,6 +42,7 @@
 #include <pcl_texlet/kernels/normal_blocks.h>
 #include <pcl_texlet/kernels/plane_fit.h>
 #include <pcl_texlet/kernels/semidefinite_factor.h>
+#include <pcl_texlet/kernels/shared_noise.h>
 #include <pcl_texlet/kernels/sym_eigen3.h>
 
 namespace pcl
@@ -201,7 +202,10 @@ addPcaModelPoints (const Neighbourhood<S> &nb, const unsigned char *mask, const 
   * is: y = F9 z + sqrt(rho) h0 (1/n) sum w, and the quadratic term is its mean, plus
   * rho (h0^2 - 1) (1/n) sum A exactly (a Gaussian there would let the variance along the rays go
   * negative), plus a Gaussian of covariance (2/n^2)(1 - rho^2) sum vec(A) vec(A)' for the
-  * points' own and cross terms; all uncorrelated, as under the per-point sampler.
+  * points' own and cross terms; all uncorrelated, as under the per-point sampler. The linear
+  * and quadratic shared parts must come from the same h0: for a shift of the whole patch along
+  * the rays they cancel in the covariance of the moments. Where the shared noise falls off
+  * across columns, pcaColumnSampleMoments() takes one such normal per column instead.
   */
 template <typename S> PCL_TEXLET_HD void
 preparePcaSampleModel (const PcaModelSums<S> &sums, int n, S rho, const PlaneFit<S> &fit, const Vec3<S> &n0,
@@ -256,6 +260,17 @@ pcaSampleNormals (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample
   }
 }
 
+/** \brief The moments of a sample from its linear term \a y and quadratic fluctuation \a u. */
+template <typename S, typename V> PCL_TEXLET_HD void
+pcaSampleMomentsOf (const PcaSampleModel<S> &md, const V y[9], const V u[6], V m[3], V c[6])
+{
+  for (int i = 0; i < 3; ++i)
+    m[i] = md.mean[i] + y[i];
+  for (int i = 0, k = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j, ++k)
+      c[k] = (md.base[k] + y[3 + k] + u[k]) - m[i] * m[j];
+}
+
 /** \brief The moments of one sample from its normals \a z: the mean offset \a m from P0 and
   * the (1/n) covariance \a c (packed), both in the model's basis. \a V is S or a SIMD lane
   * type holding several samples, one a lane: the same arithmetic.
@@ -274,11 +289,69 @@ pcaSampleMoments (const PcaSampleModel<S> &md, const V *z, V m[3], V c[6])
     for (int k = 0; k < 6; ++k)
       u[k] += md.shared_a[k] * h2;
   }
-  for (int i = 0; i < 3; ++i)
-    m[i] = md.mean[i] + y[i];
-  for (int i = 0, k = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j, ++k)
-      c[k] = (md.base[k] + y[3 + k] + u[k]) - m[i] * m[j];
+  pcaSampleMomentsOf (md, y, u, m, c);
+}
+
+/** \brief Where the shared noise falls off across columns (shared_noise.h): the column sums of
+  * the points' w and A that its column normals e_x multiply, scaled for the moments.
+  */
+template <typename S>
+struct PcaColumnSums
+{
+  int count = 0;
+  S w[kMaxSharedColumns][9]; ///< sqrt(rho) (1/n) sum over the column of w
+  S A[kMaxSharedColumns][6]; ///< rho (1/n) sum over the column of A = a a'
+};
+
+/** \brief The column sums of the inliers (\a mask) of \a nb over \a columns, \a n inliers. */
+template <typename S> PCL_TEXLET_HD void
+pcaColumnSums (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaModelBasis<S> &b,
+               const ColumnSpan &columns, int n, PcaColumnSums<S> &out)
+{
+  const S rho = nb.shared_fraction, root = std::sqrt (rho) / S (n), scale = rho / S (n);
+  out.count = columns.count;
+  for (int x = 0; x < columns.count; ++x)
+  {
+    for (int i = 0; i < 9; ++i)
+      out.w[x][i] = S (0);
+    for (int i = 0; i < 6; ++i)
+      out.A[x][i] = S (0);
+  }
+  for (int k = 0; k < nb.count; ++k)
+  {
+    S q[3], a[3];
+    pcaModelPoint (nb, mask, k, b.P0, b.axes, b.P0b, q, a);
+    S *w = out.w[nb.column (k) - columns.first], *A = out.A[nb.column (k) - columns.first];
+    for (int i = 0; i < 3; ++i)
+      w[i] += root * a[i];
+    for (int i = 0, m = 0; i < 3; ++i)
+      for (int j = i; j < 3; ++j, ++m)
+      {
+        w[3 + m] += root * (q[i] * a[j] + a[i] * q[j]);
+        A[m] += scale * a[i] * a[j];
+      }
+  }
+}
+
+/** \brief pcaSampleMoments() with the shared noise by column: its column normals \a e (the
+  * per-point sampler's SharedDraw::e law) in place of the whole patch's z[15].
+  */
+template <typename S> PCL_TEXLET_HD void
+pcaColumnSampleMoments (const PcaSampleModel<S> &md, const PcaColumnSums<S> &cols, const S *z, const S *e, S m[3],
+                        S c[6])
+{
+  S y[9], u[6];
+  md.lin.apply (z, y);
+  md.quad.apply (z + 9, u);
+  for (int x = 0; x < cols.count; ++x)
+  {
+    const S h2 = e[x] * e[x] - S (1);
+    for (int i = 0; i < 9; ++i)
+      y[i] += cols.w[x][i] * e[x];
+    for (int k = 0; k < 6; ++k)
+      u[k] += cols.A[x][k] * h2;
+  }
+  pcaSampleMomentsOf (md, y, u, m, c);
 }
 
 /** \brief The re-fit of one sample from its moments (pcaSampleMoments()), as fitPlanePca()

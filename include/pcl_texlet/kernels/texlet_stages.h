@@ -11,8 +11,8 @@
  *   bool valid (const P &) const;                whether a point has a depth reading
  *   double sigma (int index, double z) const;    depth SD in metres of the point at a pixel, depth z
  *   double modelSigma (int u, int v, double z) const;  the noise model's depth SD there (metres)
- *   double sharedFraction (int u, int v, double z) const;  the part of the model's depth variance
- *       there that a texlet's disc shares (Neighbourhood::shared_fraction; 0: independent noise)
+ *   SharedNoise sharedNoise (int u, int v, double z) const;  the part of the model's depth variance
+ *       there that a texlet's points share, and its correlation length across columns
  *   bool hasColour () const;
  *   void addColour (int index, unsigned &r, unsigned &g, unsigned &b) const;  adds a pixel's colour
  *   double varianceScale (int cu, int cv, const TexletResult<S> &) const;  rescale of the
@@ -183,14 +183,19 @@ ransacThreshold (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv,
   return static_cast<S> (fs.threshold_sigmas * frame.modelSigma (cu, cv, zsum / count) * own);
 }
 
-/** \brief The part of the noise model's depth variance that the disc around (cu, cv) shares, at
-  * the gathered points' mean depth, within [0, 1].
+/** \brief The noise the points of the disc around (cu, cv) share (frame.sharedNoise () at the
+  * gathered points' mean depth) into \a nb: shared_fraction within [0, 1], and the correlation
+  * of adjacent columns with the points' pixel indices \a pixel.
   */
-template <typename S, typename Frame> PCL_TEXLET_HD S
-discSharedFraction (const Frame &frame, int cu, int cv, double zsum, int count)
+template <typename S, typename Frame> PCL_TEXLET_HD void
+discSharedNoise (const Frame &frame, int cu, int cv, double zsum, int count, const int *pixel, Neighbourhood<S> &nb)
 {
-  const double f = frame.sharedFraction (cu, cv, zsum / count);
-  return static_cast<S> (f > 0.0 ? (f < 1.0 ? f : 1.0) : 0.0);
+  const SharedNoise s = frame.sharedNoise (cu, cv, zsum / count);
+  nb.shared_fraction = static_cast<S> (s.fraction > 0.0 ? (s.fraction < 1.0 ? s.fraction : 1.0) : 0.0);
+  const double L = s.column_correlation_px;
+  nb.column_correlation = static_cast<S> (L > 0.0 && L < 1e30 ? std::exp (-1.0 / L) : 1.0);
+  nb.pixel = pixel;
+  nb.width = frame.width ();
 }
 
 /** \brief The inliers' mean colour as PCL's rgba word (alpha 255), 0 for a frame without colour. */
@@ -302,7 +307,7 @@ frameTexlet (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, con
     pointSigmas (frame, ws, 0, count, 1);
     nb.sigma = ws.sigma;
   }
-  nb.shared_fraction = discSharedFraction<S> (frame, cu, cv, zsum, count);
+  discSharedNoise (frame, cu, cv, zsum, count, ws.pixel, nb);
   TexletSettings<S> st = fs.kernel;
   st.threshold = ransacThreshold (frame, fs, cu, cv, zsum, count, nb.shared_fraction);
 

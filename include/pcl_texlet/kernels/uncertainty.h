@@ -23,6 +23,7 @@
 #include <pcl_texlet/kernels/pca_sampler.h>
 #include <pcl_texlet/kernels/philox_rng.h>
 #include <pcl_texlet/kernels/plane_fit.h>
+#include <pcl_texlet/kernels/shared_noise.h>
 #include <pcl_texlet/kernels/tangent_frame.h>
 
 #include <cstring>
@@ -71,15 +72,16 @@ analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k
 }
 
 /** \brief Adds the shared part \a rho of the noise to covariances of independent noise:
-  * (1 - rho) times those (\a c, packed \a dim x \a dim) plus rho times the outer product of the
-  * SD-weighted Jacobians' sum \a g, scaled by \a scale.
+  * (1 - rho) times those (\a c, packed \a dim x \a dim) plus rho times the block of rows
+  * \a first .. first + dim - 1 of \a form (packed 6 x 6: the SD-weighted Jacobians' columnForm()),
+  * scaled by \a scale.
   */
 template <typename S, int dim> PCL_TEXLET_HD void
-addSharedNoise (S rho, const S *g, S scale, S *c)
+addSharedNoise (S rho, const S form[21], int first, S scale, S *c)
 {
   for (int i = 0, k = 0; i < dim; ++i)
     for (int j = i; j < dim; ++j, ++k)
-      c[k] = (S (1) - rho) * c[k] + rho * scale * g[i] * g[j];
+      c[k] = (S (1) - rho) * c[k] + rho * scale * form[packedIndex<6> (first + i, first + j)];
 }
 
 /** \brief First-order covariances of a PCA or SVD fit of the inliers (mask) of \a nb, with P
@@ -112,74 +114,93 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     for (int j = 0; j < 3; ++j)
       cn[i][j] = S (0);
   }
-  const int full = nb.count & ~3;
-#if defined(__GNUC__) && !defined(__CUDACC__)
-  // The same terms as analyticPlaneTerms, four points at a time in vector types.
-  typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
-  Lane lp[6] = {}, ln[3] = {}, lt = {}, ls[6] = {};
-  const bool shared = nb.shared_fraction > S (0);
-  for (int k = 0; k < full; k += 4)
-  {
-    Lane px, py, pz, sd;
-    std::memcpy (&px, nb.x + k, sizeof px);
-    std::memcpy (&py, nb.y + k, sizeof py);
-    std::memcpy (&pz, nb.z + k, sizeof pz);
-    std::memcpy (&sd, nb.sigma + k, sizeof sd);
-    Lane use;
-    for (int i = 0; i < 4; ++i)
-      use[i] = mask[k + i] ? S (1) : S (0);
-    const Lane iz = S (1) / pz;
-    const Lane rx = iz * px, ry = iz * py, rz = iz * pz;
-    const Lane qx = px - fit.P.x, qy = py - fit.P.y, qz = pz - fit.P.z;
-    const Lane su = use * sd, var = su * sd;
-    lp[0] += var * rx * rx; lp[1] += var * rx * ry; lp[2] += var * rx * rz;
-    lp[3] += var * ry * ry; lp[4] += var * ry * rz; lp[5] += var * rz * rz;
-    const Lane h = qx * fit.N.x + qy * fit.N.y + qz * fit.N.z, re0 = rx * fit.N.x + ry * fit.N.y + rz * fit.N.z;
-    const Lane c1 = -((rx * fit.e1.x + ry * fit.e1.y + rz * fit.e1.z) * h +
-                      (qx * fit.e1.x + qy * fit.e1.y + qz * fit.e1.z) * re0) * inv_d1;
-    const Lane c2 = -((rx * fit.e2.x + ry * fit.e2.y + rz * fit.e2.z) * h +
-                      (qx * fit.e2.x + qy * fit.e2.y + qz * fit.e2.z) * re0) * inv_d2;
-    const Lane j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
-    ln[0] += var * j1 * j1;
-    ln[1] += var * j1 * j2;
-    ln[2] += var * j2 * j2;
-    const Lane a = re0 * inv_n + c1 * e1m + c2 * e2m;
-    lt += var * a * a;
-    if (shared)
-    {
-      ls[0] += su * rx; ls[1] += su * ry; ls[2] += su * rz;
-      ls[3] += su * j1; ls[4] += su * j2; ls[5] += su * a;
-    }
-  }
-  for (int i = 0; i < 4; ++i)
-  {
-    for (int j = 0; j < 6; ++j)
-    {
-      cp[i][j] = lp[j][i];
-      cs[i][j] = ls[j][i];
-    }
-    for (int j = 0; j < 3; ++j)
-      cn[i][j] = ln[j][i];
-    ct[i] = lt[i];
-  }
-#else
-  for (int k = 0; k < full; k += 4)
-    for (int i = 0; i < 4; ++i)
-      analyticPlaneTerms (nb, mask, k + i, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[i], cn[i],
-                          ct[i], cs[i]);
-#endif
-  for (int k = full; k < nb.count; ++k)
-    analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k - full],
-                        cn[k - full], ct[k - full], cs[k - full]);
-  S g[6]; // the SD-weighted Jacobians' sums: r (3), j1, j2, a
-  for (int j = 0; j < 6; ++j)
-    g[j] = (cs[0][j] + cs[1][j]) + (cs[2][j] + cs[3][j]);
   const S rho = nb.shared_fraction;
+  S form[21]; // the shared part's quadratic form of the SD-weighted Jacobians (r, j1, j2, a)
+  const ColumnSpan columns = sharedColumns (nb);
+  if (columns.count > 0) // the shared part by column (shared_noise.h)
+  {
+#if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
+    S G[kMaxSharedColumns][6] = {};
+    for (int k = 0; k < nb.count; ++k)
+      analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k & 3],
+                          cn[k & 3], ct[k & 3], G[nb.column (k) - columns.first]);
+    columnForm<S, 6> (G, columns.count, nb.column_correlation, form);
+#endif
+  }
+  else
+  {
+    const int full = nb.count & ~3;
+#if defined(__GNUC__) && !defined(__CUDACC__)
+    // The same terms as analyticPlaneTerms, four points at a time in vector types.
+    typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+    Lane lp[6] = {}, ln[3] = {}, lt = {}, ls[6] = {};
+    const bool shared = nb.shared_fraction > S (0);
+    for (int k = 0; k < full; k += 4)
+    {
+      Lane px, py, pz, sd;
+      std::memcpy (&px, nb.x + k, sizeof px);
+      std::memcpy (&py, nb.y + k, sizeof py);
+      std::memcpy (&pz, nb.z + k, sizeof pz);
+      std::memcpy (&sd, nb.sigma + k, sizeof sd);
+      Lane use;
+      for (int i = 0; i < 4; ++i)
+        use[i] = mask[k + i] ? S (1) : S (0);
+      const Lane iz = S (1) / pz;
+      const Lane rx = iz * px, ry = iz * py, rz = iz * pz;
+      const Lane qx = px - fit.P.x, qy = py - fit.P.y, qz = pz - fit.P.z;
+      const Lane su = use * sd, var = su * sd;
+      lp[0] += var * rx * rx; lp[1] += var * rx * ry; lp[2] += var * rx * rz;
+      lp[3] += var * ry * ry; lp[4] += var * ry * rz; lp[5] += var * rz * rz;
+      const Lane h = qx * fit.N.x + qy * fit.N.y + qz * fit.N.z, re0 = rx * fit.N.x + ry * fit.N.y + rz * fit.N.z;
+      const Lane c1 = -((rx * fit.e1.x + ry * fit.e1.y + rz * fit.e1.z) * h +
+                        (qx * fit.e1.x + qy * fit.e1.y + qz * fit.e1.z) * re0) * inv_d1;
+      const Lane c2 = -((rx * fit.e2.x + ry * fit.e2.y + rz * fit.e2.z) * h +
+                        (qx * fit.e2.x + qy * fit.e2.y + qz * fit.e2.z) * re0) * inv_d2;
+      const Lane j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
+      ln[0] += var * j1 * j1;
+      ln[1] += var * j1 * j2;
+      ln[2] += var * j2 * j2;
+      const Lane a = re0 * inv_n + c1 * e1m + c2 * e2m;
+      lt += var * a * a;
+      if (shared)
+      {
+        ls[0] += su * rx; ls[1] += su * ry; ls[2] += su * rz;
+        ls[3] += su * j1; ls[4] += su * j2; ls[5] += su * a;
+      }
+    }
+    for (int i = 0; i < 4; ++i)
+    {
+      for (int j = 0; j < 6; ++j)
+      {
+        cp[i][j] = lp[j][i];
+        cs[i][j] = ls[j][i];
+      }
+      for (int j = 0; j < 3; ++j)
+        cn[i][j] = ln[j][i];
+      ct[i] = lt[i];
+    }
+#else
+    for (int k = 0; k < full; k += 4)
+      for (int i = 0; i < 4; ++i)
+        analyticPlaneTerms (nb, mask, k + i, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[i], cn[i],
+                            ct[i], cs[i]);
+#endif
+    for (int k = full; k < nb.count; ++k)
+      analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k - full],
+                          cn[k - full], ct[k - full], cs[k - full]);
+    if (rho > S (0)) // the patch shares it whole
+    {
+      S G[1][6];
+      for (int j = 0; j < 6; ++j)
+        G[0][j] = (cs[0][j] + cs[1][j]) + (cs[2][j] + cs[3][j]);
+      columnForm<S, 6> (G, 1, S (1), form);
+    }
+  }
   if (centre.on)
   {
     S var_t = (ct[0] + ct[1]) + (ct[2] + ct[3]);
     if (rho > S (0))
-      addSharedNoise<S, 1> (rho, g + 5, S (1), &var_t);
+      addSharedNoise<S, 1> (rho, form, 5, S (1), &var_t);
     var_t *= centre.inv_n_ray * centre.inv_n_ray;
     const Vec3<S> &r = centre.ray;
     cov_p[0] = var_t * r.x * r.x; cov_p[1] = var_t * r.x * r.y; cov_p[2] = var_t * r.x * r.z;
@@ -191,12 +212,12 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     for (int j = 0; j < 6; ++j)
       cov_p[j] = ((cp[0][j] + cp[1][j]) + (cp[2][j] + cp[3][j])) * inv_n2;
     if (rho > S (0))
-      addSharedNoise<S, 3> (rho, g, inv_n2, cov_p);
+      addSharedNoise<S, 3> (rho, form, 0, inv_n2, cov_p);
   }
   for (int j = 0; j < 3; ++j)
     cov_n[j] = (cn[0][j] + cn[1][j]) + (cn[2][j] + cn[3][j]);
   if (rho > S (0))
-    addSharedNoise<S, 2> (rho, g + 3, S (1), cov_n);
+    addSharedNoise<S, 2> (rho, form, 3, S (1), cov_n);
 }
 
 /** \brief First-order covariances of normal averaging (P is the centre point), by central
@@ -240,8 +261,13 @@ analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], cons
     g[0] += nb.ring_sigma[i] * j1;
     g[1] += nb.ring_sigma[i] * j2;
   }
-  if (nb.shared_fraction > S (0))
-    addSharedNoise<S, 2> (nb.shared_fraction, g, S (1), cov_n);
+  if (nb.shared_fraction > S (0)) // the ring's columns are not known: it shares the noise whole
+  {
+    const S G[1][6] = {{S (0), S (0), S (0), g[0], g[1], S (0)}};
+    S form[21];
+    columnForm<S, 6> (G, 1, S (1), form);
+    addSharedNoise<S, 2> (nb.shared_fraction, form, 3, S (1), cov_n);
+  }
 }
 
 /** \brief First-order covariances of the texlet's fit \a method: analyticAveragingCovariance()
@@ -324,33 +350,6 @@ addMonteCarloSample (const Vec3<S> &P, Vec3<S> N, const Vec3<S> &P0, const Vec3<
   acc.add (P - P0, dot (N, t1), dot (N, t2));
 }
 
-/** \brief The shared part of a Monte Carlo sample's noise: a point's standardised noise is
-  * sqrt(1 - rho) g + sqrt(rho) g0, its own normal g and the sample's g0 (Philox block
-  * kSharedNoiseBlock), so that two points' noises correlate by rho = nb.shared_fraction.
-  */
-template <typename S>
-struct SharedDraw
-{
-  /** \brief Philox block of the shared normal: beyond any disc's point blocks. */
-  static constexpr std::uint32_t kSharedNoiseBlock = 0x40000000u;
-  S own = S (1), common = S (0);
-
-  PCL_TEXLET_HD
-  SharedDraw (const Neighbourhood<S> &nb, std::uint32_t seed, std::uint32_t texlet, int s)
-  {
-    if (!(nb.shared_fraction > S (0)))
-      return;
-    float g[4];
-    normalQuad (seed, texlet, static_cast<std::uint32_t> (s), kSharedNoiseBlock, g);
-    own = std::sqrt (S (1) - nb.shared_fraction);
-    common = std::sqrt (nb.shared_fraction) * S (g[0]);
-  }
-
-  /** \brief A point's standardised noise from its own normal \a g. */
-  PCL_TEXLET_HD S
-  noise (float g) const { return own * S (g) + common; }
-};
-
 /** \brief Monte Carlo sample \a s of normal averaging: the used ring points (\a ring_use)
   * moved along their rays by depth noise from Philox counters (seed, texlet, s, point block),
   * and Eq. 5 on them. \return false where the sample has no normal
@@ -361,12 +360,12 @@ averagingSample (const Neighbourhood<S> &nb, const bool ring_use[7], std::uint32
 {
   float g[4];
   Vec3<S> ring[7];
-  const SharedDraw<S> shared (nb, seed, texlet, s);
+  const SharedDraw<S> shared (nb, seed, texlet, s, true); // the ring's columns are not known
   for (int i = 0; i < 7; ++i)
   {
     if ((i & 3) == 0)
       normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (i >> 2), g);
-    ring[i] = ring_use[i] ? (S (1) + shared.noise (g[i & 3]) * nb.ring_sigma[i] / nb.ring[i].z) * nb.ring[i]
+    ring[i] = ring_use[i] ? (S (1) + shared.noise (g[i & 3], nb, 0) * nb.ring_sigma[i] / nb.ring[i].z) * nb.ring[i]
                           : nb.ring[i];
   }
   P = ring[0];
@@ -392,7 +391,7 @@ inlierSample (const Neighbourhood<S> &nb, const unsigned char *mask, PlaneFitMet
       normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (k >> 2), g);
     if (!mask[k])
       continue;
-    const Vec3<S> p = (S (1) + shared.noise (g[k & 3]) * nb.sigma[k] / nb.z[k]) * nb.point (k);
+    const Vec3<S> p = (S (1) + shared.noise (g[k & 3], nb, k) * nb.sigma[k] / nb.z[k]) * nb.point (k);
     if (method == PlaneFitMethod::SVD)
     {
       work[3 * m.n + 0] = p.x;
@@ -536,6 +535,26 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
 
   SampleCovariance<S> acc;
   acc.reset (centre);
+  const ColumnSpan columns = sharedColumns (nb);
+  if (columns.count > 0) // the shared noise by column: sample by sample, with its column normals
+  {
+#if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
+    PcaColumnSums<S> cols;
+    pcaColumnSums (nb, mask, basis, columns, n, cols);
+    for (int s = 0; s < samples; ++s)
+    {
+      S z[kPcaSampleNormals], m[3], c[6], a1, a2;
+      Vec3<S> dP;
+      pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
+      const SharedDraw<S> shared (nb, seed, texlet, s);
+      pcaColumnSampleMoments (md, cols, z, shared.e, m, c);
+      if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
+        acc.add (dP, a1, a2);
+    }
+#endif
+    acc.finish (cov_p, cov_n);
+    return;
+  }
 #if !defined(__CUDACC__)
   Vec3<S> dP;
   S a1, a2;

@@ -111,6 +111,9 @@ template <typename E>
 using FrameVarianceOp =
     decltype (E::frameVariance (std::declval<const double *> (), std::declval<Args<E>> (), PixelContext ()));
 template <typename E>
+using ColumnCorrelationOp =
+    decltype (E::columnCorrelationPx (std::declval<const double *> (), std::declval<Args<E>> (), PixelContext ()));
+template <typename E>
 using TransformOp = decltype (E::transformMoments (std::declval<const double *> (), std::declval<Args<E>> (),
                                                    PixelContext (), std::declval<double &> (),
                                                    std::declval<double &> ()));
@@ -223,6 +226,15 @@ public:
       return Effect::frameVariance (values_.data (), settings_, ctx);
     else
       return 0.0;
+  }
+
+  double
+  columnCorrelationPx (const PixelContext &ctx) const override
+  {
+    if constexpr (detail::Has<Effect, detail::ColumnCorrelationOp>::value)
+      return Effect::columnCorrelationPx (values_.data (), settings_, ctx);
+    else
+      return std::numeric_limits<double>::infinity ();
   }
 
   void

@@ -32,6 +32,10 @@ struct NoiseMoments
   double variance_mm2 = 0.0;          ///< variance independent from pixel to pixel, mm^2
   double column_variance_mm2 = 0.0;   ///< variance shared by a column of pixels within a frame, mm^2
   double frame_variance_mm2 = 0.0;    ///< the part of it shared by all pixels of a frame, mm^2
+  /** Columns over which the correlation of two columns' shared offsets falls by a factor e
+    * (columnCorrelationPx () of the terms with a column variance, their rates weighted by it);
+    * infinite: every column of a frame shares them. */
+  double column_correlation_px = std::numeric_limits<double>::infinity ();
   double sigma_mm = 0.0;              ///< total SD, sqrt of both variances, never below the floor
 };
 
@@ -75,6 +79,12 @@ public:
   /** \brief The part of columnVariance () shared by every pixel of a frame, mm^2. */
   virtual double
   frameVariance (const PixelContext &) const { return 0.0; }
+
+  /** \brief Columns over which the correlation of two columns' offsets (columnVariance ()) falls
+    * by a factor e: exp(-|du| / L) for columns du apart. Infinite (the default): all share them.
+    */
+  virtual double
+  columnCorrelationPx (const PixelContext &) const { return std::numeric_limits<double>::infinity (); }
 
   /** \brief Applied last, to the bias and the independent variance of the depth before the
     * sensor reports it (disparity quantisation). Identity by default.

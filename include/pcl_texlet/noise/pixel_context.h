@@ -31,6 +31,7 @@ struct PixelContext
   double frame = std::numeric_limits<double>::quiet_NaN ();         ///< frame index since power-on; NaN: steady state
   double true_depth_mm = std::numeric_limits<double>::quiet_NaN (); ///< noise-free depth where known (the lab); NaN: unknown
   double edge_distance_px = std::numeric_limits<double>::infinity (); ///< distance to the nearest depth edge, pixels
+  double image_width_px = std::numeric_limits<double>::quiet_NaN ();  ///< the image's width, pixels; NaN: unknown
   /// focal length (px) times baseline (m): disparity = fb / z; by default a Kinect v1 at VGA
   double fb_px_m = kernels::focalBaseline (580.0, 0.075);
 };

@@ -103,19 +103,23 @@ public:
   }
 
   /** The part of the model's depth variance at pixel (u, v) and depth z (metres) that a texlet's
-    * disc shares: the variance shared by a column of pixels within a frame (column bands,
-    * frame offsets) over the whole. A disc spans a dozen columns, which the column terms' bands
-    * (a sixth of the image and more) nearly always hold whole (docs/texlet_covariances.md).
+    * points share: the variance shared by a column of pixels within a frame (column bands,
+    * frame offsets) over the whole, with its correlation length across columns at this
+    * image's width (docs/texlet_covariances.md).
     */
-  double
-  sharedFraction (int u, int v, double z) const
+  kernels::SharedNoise
+  sharedNoise (int u, int v, double z) const
   {
+    kernels::SharedNoise s;
     if (polynomial_only_)
-      return 0.0;
-    const NoiseMoments m =
-        noise_.moments (PixelContextBuilder (context_).at (u, v, camera_.principalPointDistance (u, v), z * 1000.0));
+      return s;
+    PixelContext ctx = PixelContextBuilder (context_).at (u, v, camera_.principalPointDistance (u, v), z * 1000.0);
+    ctx.image_width_px = this->width ();
+    const NoiseMoments m = noise_.moments (ctx);
     const double total = m.sigma_mm * m.sigma_mm;
-    return total > 0.0 && std::isfinite (m.column_variance_mm2) ? m.column_variance_mm2 / total : 0.0;
+    s.fraction = total > 0.0 && std::isfinite (m.column_variance_mm2) ? m.column_variance_mm2 / total : 0.0;
+    s.column_correlation_px = m.column_correlation_px;
+    return s;
   }
 
   /** The depth variances are evaluated per pixel before the fit, at a frontal view (a pixel
