@@ -132,8 +132,8 @@ TEST (ModelLabTexlets, StripesMakePaperTexletsOverconfidentUntilAdded)
   beforeAndAfter ("vertical_stripes", 22, before, after);
   // Measured: ratio 12569 (P), 210 (N) under the paper model. With the stripes added, the
   // texlets take the column offsets as shared by their disc's columns, correlated by
-  // exp(-du / L) across them (kernels/shared_noise.h): P 1.13 (median 1.23). While they took
-  // them as independent per pixel, P was 125. N: mean 5.5, median 0.41: a band boundary
+  // exp(-du / L) across them (kernels/shared_noise.h): P 1.13 (median 1.21). While they took
+  // them as independent per pixel, P was 125. N: mean 9.1, median 0.45: a band boundary
   // crosses the disc in some frames only, and tilts it there (docs/texlet_covariances.md).
   EXPECT_GT (before.ratioP (), 100.0);
   EXPECT_GT (before.ratioN (), 100.0);

@@ -251,7 +251,8 @@ TexletEstimation::run (const DeviceArray2D<DevicePoint> &cloud, DeviceArray<Devi
   offsets.dv = disc_.ptr () + disc;
   offsets.size = disc;
   offsets.radius = params_.radius;
-  const kernels::FrameSettings<S> fs = texlet::frameSettings<S> (params_, params_.viewpoint, offsets);
+  const kernels::FrameSettings<S> fs =
+      texlet::frameSettings<S> (params_, params_.viewpoint, offsets, noise_.min_sigma_mm * 1e-3);
   const CloudView view = {cloud.ptr (), cloud.step (), cloud.cols (), cloud.rows ()};
   DeviceFrame frame;
   frame.cloud = view;

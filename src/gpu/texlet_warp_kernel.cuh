@@ -237,7 +237,7 @@ texletWarpKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexG
     }
     const double zsum = k::depthSum (ws.z, count);
     k::discSharedNoise (frame, cu, cv, zsum, count, ws.pixel, nb);
-    S threshold = k::ransacThreshold (frame, fs, cu, cv, zsum, count, nb.shared_fraction);
+    S threshold = k::ransacThreshold (frame, fs, cu, cv, zsum, count, nb);
 
     // 2. RANSAC, lane = hypothesis.
     k::Plane<S> plane = {{S (0), S (0), S (0)}, S (0)};

@@ -14,10 +14,11 @@ namespace texlet
 {
 
 /** \brief The stages' settings from \a p, with normals facing \a viewpoint and the neighbourhood
-  * \a disc (whose offsets the caller keeps).
+  * \a disc (whose offsets the caller keeps); \a min_sigma_m: the noise model's least depth SD.
   */
 template <typename S> kernels::FrameSettings<S>
-frameSettings (const TexletParameters &p, const float viewpoint[3], const kernels::PixelDisc &disc)
+frameSettings (const TexletParameters &p, const float viewpoint[3], const kernels::PixelDisc &disc,
+               double min_sigma_m = 0.0)
 {
   kernels::FrameSettings<S> fs;
   fs.kernel.ransac_iterations = p.ransac_iterations;
@@ -30,6 +31,7 @@ frameSettings (const TexletParameters &p, const float viewpoint[3], const kernel
   fs.kernel.viewpoint = {S (viewpoint[0]), S (viewpoint[1]), S (viewpoint[2])};
   fs.fixed_threshold = p.ransac_threshold;
   fs.threshold_sigmas = p.threshold_sigmas;
+  fs.min_sigma = min_sigma_m;
   fs.kernel.robust_sigmas = p.ransac_threshold == 0.0 ? S (p.robust_sigmas) : S (0);
   fs.disc = disc;
   kernels::hexRingOffsets (p.radius, fs.ring_du, fs.ring_dv);

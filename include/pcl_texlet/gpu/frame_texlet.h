@@ -296,7 +296,8 @@ computeTexletsReference (const std::vector<DevicePoint> &cloud, int width, int h
   offsets.dv = dv.data ();
   offsets.size = disc;
   offsets.radius = params.radius;
-  const kernels::FrameSettings<S> fs = texlet::frameSettings<S> (params, params.viewpoint, offsets);
+  const kernels::FrameSettings<S> fs =
+      texlet::frameSettings<S> (params, params.viewpoint, offsets, noise.min_sigma_mm * 1e-3);
   std::vector<S> x (disc), y (disc), z (disc), s (disc), work (kernels::texletWorkSize (disc));
   std::vector<int> pixel (disc);
   std::vector<unsigned char> mask (disc);

@@ -5,6 +5,8 @@
 
 #include <pcl_texlet/kernels/vec3.h>
 
+#include <limits>
+
 namespace pcl
 {
 namespace texlet
@@ -58,7 +60,8 @@ struct Neighbourhood
 struct SharedNoise
 {
   double fraction = 0.0;            ///< Neighbourhood::shared_fraction
-  double column_correlation_px = 0; ///< columns over which the correlation falls by e; <= 0 or inf: no fall
+  /** columns over which the correlation falls by e; infinite (as NoiseMoments'), or <= 0: no fall */
+  double column_correlation_px = std::numeric_limits<double>::infinity ();
 };
 
 } // namespace kernels

@@ -46,6 +46,7 @@ struct FrameSettings
   TexletSettings<S> kernel;        ///< computeTexlet's settings; the threshold is set per texlet
   double fixed_threshold = 0.0;    ///< RANSAC threshold in metres; 0: threshold_sigmas depth SDs
   double threshold_sigmas = 3.0;   ///< of the noise model at the centre pixel and the mean depth
+  double min_sigma = 0.0;          ///< metres: the least SD the automatic threshold takes (the model's floor)
   PixelDisc disc;                  ///< the texlet's neighbourhood
   int ring_du[7] = {0, 0, 0, 0, 0, 0, 0}; ///< the ring of normal averaging (hexRingOffsets())
   int ring_dv[7] = {0, 0, 0, 0, 0, 0, 0};
@@ -171,16 +172,29 @@ pointSigmas (const Frame &frame, const TexletScratch<S> &ws, int first, int coun
 
 /** \brief The RANSAC threshold of the texlet at (cu, cv): the fixed one, or threshold_sigmas
   * depth SDs of the noise model at the centre pixel and the gathered points' mean depth, less
-  * the part the disc shares (\a shared_fraction: it moves the plane, not a point off it).
+  * the part the disc shares (nb.shared_fraction: it moves the plane, not a point off it): the
+  * larger of the unshared part and the part of the shared one that decorrelates across the
+  * disc's columns and no plane absorbs; never below fs.min_sigma.
   */
 template <typename S, typename Frame> PCL_TEXLET_HD S
 ransacThreshold (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, double zsum, int count,
-                 S shared_fraction)
+                 const Neighbourhood<S> &nb)
 {
   if (fs.fixed_threshold > 0.0)
     return static_cast<S> (fs.fixed_threshold);
-  const double own = shared_fraction > S (0) ? std::sqrt (1.0 - static_cast<double> (shared_fraction)) : 1.0;
-  return static_cast<S> (fs.threshold_sigmas * frame.modelSigma (cu, cv, zsum / count) * own);
+  const double rho = static_cast<double> (nb.shared_fraction);
+  double own = 1.0;
+  if (rho > 0.0)
+  {
+    const double unshared = 1.0 - rho;
+    // Over 2R + 1 columns, offsets correlated by a^|du| are a random walk of step variance
+    // 2 (1 - a) rho; less the straight line a plane absorbs, (2R + 1) / 15 of that is left.
+    const double decorrelated = rho * 2.0 * (1.0 - static_cast<double> (nb.column_correlation)) *
+                                (2.0 * fs.disc.radius + 1.0) / 15.0;
+    own = std::sqrt (unshared > decorrelated ? unshared : decorrelated);
+  }
+  const double sd = frame.modelSigma (cu, cv, zsum / count) * own;
+  return static_cast<S> (fs.threshold_sigmas * (sd > fs.min_sigma ? sd : fs.min_sigma));
 }
 
 /** \brief The noise the points of the disc around (cu, cv) share (frame.sharedNoise () at the
@@ -309,7 +323,7 @@ frameTexlet (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, con
   }
   discSharedNoise (frame, cu, cv, zsum, count, ws.pixel, nb);
   TexletSettings<S> st = fs.kernel;
-  st.threshold = ransacThreshold (frame, fs, cu, cv, zsum, count, nb.shared_fraction);
+  st.threshold = ransacThreshold (frame, fs, cu, cv, zsum, count, nb);
 
   TexletResult<S> r;
   kernel (nb, st, centre, ws.mask, ws.work, r);

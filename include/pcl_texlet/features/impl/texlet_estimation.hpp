@@ -203,7 +203,7 @@ public:
     disc.linear = offset_.data ();
     disc.size = n;
     disc.radius = params.radius;
-    settings_ = frameSettings<double> (params, viewpoint, disc);
+    settings_ = frameSettings<double> (params, viewpoint, disc, noise.minSigmaMm () * 1e-3);
     scratch_ = {x_.data (), y_.data (), z_.data (), s_.data (), work_.data (), pixel_.data (), mask_.data ()};
   }
 
