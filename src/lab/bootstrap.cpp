@@ -58,8 +58,9 @@ synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<
       disparity += linearBiasPx (*mv.grid, grid_nodes, double (p.index % m.width), double (p.index / m.width),
                                  m.surface_mm[p.index], m.fb ());
     disparity -= mo.bias_mm / p.J;
-    const RecordedMoments recorded = recordedMoments (model, mv.quantised, model.moments (ctx).variance_mm2,
-                                                      1000.0 * m.fb () / disparity);
+    // Only a rounding's variance depends on the distortion map; otherwise both are no_grid's.
+    const double variance = mv.quantised && mv.grid ? model.moments (ctx).variance_mm2 : mo.variance_mm2;
+    const RecordedMoments recorded = recordedMoments (model, mv.quantised, variance, 1000.0 * m.fb () / disparity);
     pvar[k] = recorded.variance_mm2;
     pcol[k] = mo.column_variance_mm2;
     pmean[k] = disparity - recorded.mean_offset_mm / p.J;
