@@ -139,6 +139,8 @@ measureRecording (RecordingReader &reader, const std::string &name, const std::s
 
   const std::size_t n = static_cast<std::size_t> (m->width) * m->height;
   DepthFrame frame;
+  std::vector<double> grey_sum;
+  int colour_frames = 0;
   while (reader.next (frame))
   {
     if (frame.width != m->width || frame.height != m->height)
@@ -152,7 +154,20 @@ measureRecording (RecordingReader &reader, const std::string &name, const std::s
     if (m->frames == 65535)
       throw pcl::BadArgumentException ("recording '" + name + "': more than 65535 frames; measure a subset");
     m->depth_mm.insert (m->depth_mm.end (), frame.depth_mm.begin (), frame.depth_mm.end ());
+    if (frame.rgb.size () == 3 * n)
+    {
+      grey_sum.resize (n, 0.0);
+      for (std::size_t i = 0; i < n; ++i)
+        grey_sum[i] += 0.299 * frame.rgb[3 * i] + 0.587 * frame.rgb[3 * i + 1] + 0.114 * frame.rgb[3 * i + 2];
+      ++colour_frames;
+    }
     ++m->frames;
+  }
+  if (colour_frames > 0)
+  {
+    m->intensity.resize (n);
+    for (std::size_t i = 0; i < n; ++i)
+      m->intensity[i] = static_cast<float> (grey_sum[i] / colour_frames);
   }
   if (m->frames == 0)
     throw pcl::BadArgumentException ("recording '" + name + "': it has no frames");

@@ -73,6 +73,10 @@ struct RecordingMeasurement
   std::vector<float> edge_distance_px; ///< distance to the nearest depth edge (large: none)
   std::vector<float> phase;         ///< sub-step phase of the surface's disparity, [0, 1)
   std::vector<std::uint8_t> inlier; ///< used in the surface fit (plane scenes)
+  /** \brief Mean grey level (0-255, Rec. 601 luma) of the frames' colour images; empty when the
+    * recording has none.
+    */
+  std::vector<float> intensity;
 
   std::size_t left_out = 0;         ///< pixels with readings but too few valid frames
   std::size_t no_surface = 0;       ///< pixels never valid

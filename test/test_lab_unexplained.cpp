@@ -1,0 +1,97 @@
+/*
+ * Residual diagnostics (lab::diagnoseResiduals) on walls of the independent generator
+ * (test/generators/independent_walls.py) with effects outside the lab's vocabulary: the first
+ * significant structure must be the one hidden, and a clean wall must leave nothing significant.
+ * A vocabulary effect the model holds (vertical_stripes, temporal_drift) takes its structure off
+ * the list.
+ */
+#include "support/generated_walls.h"
+
+#include <pcl_texlet/lab/model_lab.h>
+#include <pcl_texlet/lab/residual_diagnostics.h>
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+using namespace pcl::texlet;
+using pcl_texlet_test::WallPose;
+
+namespace
+{
+
+std::vector<WallPose>
+walls ()
+{
+  return {{0.9, -5, -12}, {1.4, 6, 18}, {1.95, -3, -24}, {2.5, 4, 10}, {2.95, -6, 20}};
+}
+
+/** The diagnostics of \a model (the paper's, refitted; with \a add added) on walls with \a effects. */
+lab::ResidualDiagnostics
+diagnose (const std::vector<std::string> &effects, int seed, const std::string &what, const std::string &add = "")
+{
+  lab::ModelLab lab{lab::LabSettings ()};
+  for (const auto &r : pcl_texlet_test::generatedWalls (walls (), effects, seed, 20, 320))
+    lab.addRecording (r);
+  const NoiseModel model = add.empty () ? lab.fit (NoiseModel::paper ()) : lab.addEffect (NoiseModel::paper (), add);
+  const lab::ResidualDiagnostics d = lab::diagnoseResiduals (lab, model);
+  std::cout << what << " (" << d.seconds << " s):\n";
+  for (const auto &s : d.structures)
+    std::cout << "  " << s.structure << ": strength " << s.strength << ", z " << s.z
+              << (s.significant ? ", significant" : "") << ": " << s.words << "\n";
+  return d;
+}
+
+void
+expectFirst (const lab::ResidualDiagnostics &d, const std::string &structure)
+{
+  const lab::UnexplainedStructure *first = d.firstSignificant ();
+  ASSERT_NE (first, nullptr) << "nothing significant, expected " << structure;
+  EXPECT_EQ (first->structure, structure);
+}
+
+} // namespace
+
+TEST (ResidualDiagnostics, CleanWallsLeaveNothing)
+{
+  const auto d = diagnose ({}, 901, "clean walls");
+  const auto *first = d.firstSignificant ();
+  EXPECT_EQ (first, nullptr) << first->structure << " " << first->words;
+}
+
+TEST (ResidualDiagnostics, FindsRowBands) { expectFirst (diagnose ({"row_bands"}, 911, "row bands"), "rows"); }
+
+TEST (ResidualDiagnostics, FindsSpatialCorrelation)
+{
+  expectFirst (diagnose ({"correlated"}, 921, "9 x 9 correlated noise"), "spatial_correlation");
+}
+
+TEST (ResidualDiagnostics, FindsTemporalCorrelation)
+{
+  expectFirst (diagnose ({"temporal_ar1"}, 931, "AR(1) noise over time"), "temporal_correlation");
+}
+
+TEST (ResidualDiagnostics, FindsIntensity)
+{
+  expectFirst (diagnose ({"intensity"}, 941, "printed walls"), "covariate:intensity");
+}
+
+TEST (ResidualDiagnostics, StripesInTheModelTakeColumnsOffTheList)
+{
+  expectFirst (diagnose ({"vertical_stripes"}, 951, "stripes, paper model"), "columns");
+  const auto d = diagnose ({"vertical_stripes"}, 951, "stripes, model with vertical_stripes", "vertical_stripes");
+  for (const auto &s : d.structures)
+    if (s.structure == "columns")
+      EXPECT_FALSE (s.significant) << s.words;
+}
+
+TEST (ResidualDiagnostics, DriftInTheModelTakesFramesOffTheList)
+{
+  const auto before = diagnose ({"temporal_drift"}, 961, "warm-up drift (depth scales), paper model");
+  expectFirst (before, "frames");
+  EXPECT_NE (before.firstSignificant ()->words.find ("drift"), std::string::npos);
+  const auto after = diagnose ({"temporal_drift"}, 961, "warm-up drift, model with temporal_drift", "temporal_drift");
+  for (const auto &s : after.structures)
+    if (s.structure == "frames")
+      EXPECT_FALSE (s.significant) << s.words;
+}
