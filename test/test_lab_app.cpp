@@ -121,8 +121,24 @@ TEST_F (LabApp, SessionWritesTheReportAndAModelTheExtractorLoads)
   std::set<std::string> keys;
   for (const auto &kv : j.items ())
     keys.insert (kv.key ());
-  EXPECT_EQ (keys, (std::set<std::string>{"model", "metrics", "candidates", "steps", "skipped_frames", "notes",
-                                          "disparity_lattice"}));
+  EXPECT_EQ (keys, (std::set<std::string>{"model", "metrics", "unexplained", "start_unexplained", "candidates",
+                                          "steps", "skipped_frames", "notes", "disparity_lattice"}));
+  // What the final model leaves: every structure, strongest first, and the last step's list.
+  ASSERT_GE (j["unexplained"].size (), 5u);
+  std::set<std::string> structures;
+  double strongest = 1e300;
+  for (const auto &u : j["unexplained"])
+  {
+    structures.insert (u["structure"].get<std::string> ());
+    EXPECT_TRUE (u["significant"].is_boolean ());
+    EXPECT_TRUE (u["words"].is_string ());
+    EXPECT_LE (u["strength"].get<double> (), strongest);
+    strongest = u["strength"].get<double> ();
+  }
+  for (const char *name : {"rows", "columns", "frames", "spatial_correlation", "temporal_correlation", "covariate:depth"})
+    EXPECT_EQ (structures.count (name), 1u) << name;
+  ASSERT_EQ (j["steps"].size (), 1u);
+  EXPECT_EQ (j["steps"][0]["unexplained"], j["unexplained"]);
   // The simulator quantises on camera.yaml's lattice, or (without quantisation) there is none.
   const auto &lattice = j["disparity_lattice"];
   EXPECT_GT (lattice["camera_constant_mm"].get<double> (), 0.0);
@@ -181,7 +197,7 @@ TEST_F (LabApp, SessionWritesTheReportAndAModelTheExtractorLoads)
 
   // Plots: PNG files, embedded in the self-contained HTML.
   for (const char *png : {"staircase.png", "sd_ratio_map_start.png", "bias_map_start.png", "sd_ratio_vs_covariates.png",
-                          "bias_vs_covariates.png", "sd_ratio_map_final.png"})
+                          "bias_vs_covariates.png", "sd_ratio_map_final.png", "unexplained.png"})
   {
     const std::string bytes = slurp (report / png);
     ASSERT_GT (bytes.size (), 1000u) << png;
@@ -192,7 +208,8 @@ TEST_F (LabApp, SessionWritesTheReportAndAModelTheExtractorLoads)
   for (std::size_t p = html.find ("data:image/png;base64,"); p != std::string::npos;
        p = html.find ("data:image/png;base64,", p + 1))
     ++images;
-  EXPECT_GE (images, 7u);
+  EXPECT_GE (images, 8u);
+  EXPECT_NE (html.find ("What the model leaves unexplained"), std::string::npos);
   EXPECT_EQ (html.find ("src=\"staircase.png\""), std::string::npos); // nothing referenced from outside
 
   // pcl_texlet_extract takes the lab's model.

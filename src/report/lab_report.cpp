@@ -119,6 +119,17 @@ termsJson (const NoiseModel &model)
   return terms;
 }
 
+/** The structures of \a d, strongest first: structure, strength, significant, z, words. */
+nlohmann::json
+unexplainedJson (const ResidualDiagnostics &d)
+{
+  nlohmann::json out = nlohmann::json::array ();
+  for (const auto &u : d.structures)
+    out.push_back ({{"structure", u.structure}, {"strength", number (u.strength)}, {"significant", u.significant},
+                    {"z", number (u.z)}, {"words", u.words}});
+  return out;
+}
+
 std::string
 readFile (const std::string &path)
 {
@@ -286,6 +297,8 @@ runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &
   s.start_metrics = lab.evaluate (start);
   say (lab, "lab: texlet NEES of P and N across frames under '" + start_name + "'");
   s.start_metrics.texlets = texletMetrics (lab, start);
+  say (lab, "lab: the structure '" + start_name + "' leaves in the residuals");
+  s.start_unexplained = diagnoseResiduals (lab, start);
   say (lab, "lab: ranking the candidate effects (fit on even frames, score on odd frames)");
   s.candidates = lab.rankCandidates (start);
   scoreCandidateTexlets (lab, s.candidates);
@@ -297,8 +310,9 @@ runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &
   {
     say (lab, "lab: adding " + effect + " and refitting");
     current = lab.addEffect (current, effect);
-    s.steps.push_back ({effect, lab.evaluate (current), current, false});
+    s.steps.push_back ({effect, lab.evaluate (current), current, false, {}});
     s.steps.back ().metrics.texlets = texletMetrics (lab, current);
+    s.steps.back ().unexplained = diagnoseResiduals (lab, current);
   }
   std::vector<Candidate> ranking = s.candidates;
   for (int k = 0; k < auto_count; ++k)
@@ -322,10 +336,21 @@ runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &
     }
     say (lab, "lab: adding " + best->effect + " (best significant candidate) and refitting");
     current = lab.addEffect (current, best->effect);
-    s.steps.push_back ({best->effect, lab.evaluate (current), current, true});
+    s.steps.push_back ({best->effect, lab.evaluate (current), current, true, {}});
     s.steps.back ().metrics.texlets = texletMetrics (lab, current);
+    s.steps.back ().unexplained = diagnoseResiduals (lab, current);
   }
-  s.final_model = s.steps.empty () ? lab.fit (start) : s.steps.back ().model;
+  if (s.steps.empty ())
+  {
+    s.final_model = lab.fit (start);
+    say (lab, "lab: the structure the refitted model leaves in the residuals");
+    s.unexplained = diagnoseResiduals (lab, s.final_model);
+  }
+  else
+  {
+    s.final_model = s.steps.back ().model;
+    s.unexplained = s.steps.back ().unexplained;
+  }
   return s;
 }
 
@@ -335,6 +360,8 @@ labReportJson (const LabSession &s)
   nlohmann::json j;
   j["model"] = {{"name", s.start_name}, {"terms", termsJson (s.start)}};
   j["metrics"] = metricsJson (s.start_metrics);
+  j["unexplained"] = unexplainedJson (s.unexplained);
+  j["start_unexplained"] = unexplainedJson (s.start_unexplained);
   nlohmann::json cands = nlohmann::json::array ();
   for (const auto &c : s.candidates)
   {
@@ -361,7 +388,7 @@ labReportJson (const LabSession &s)
   nlohmann::json steps = nlohmann::json::array ();
   for (const auto &st : s.steps)
     steps.push_back ({{"added", st.added}, {"metrics", metricsJson (st.metrics)}, {"auto", st.from_auto},
-                      {"terms", termsJson (st.model)}});
+                      {"terms", termsJson (st.model)}, {"unexplained", unexplainedJson (st.unexplained)}});
   j["steps"] = steps;
   j["skipped_frames"] = s.skipped_frames;
   j["notes"] = s.notes;
@@ -440,6 +467,54 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
       << "unset multiplot\n";
     g.close ();
     drawPlot (work + "/staircase.gp", png);
+  }
+
+  // --- what the final model leaves: the structures' strengths and the residual correlations
+  {
+    const ResidualDiagnostics &u = s.unexplained;
+    const double floor = 1e-4;
+    std::ofstream d (work + "/unexplained.dat");
+    const std::size_t shown = std::min<std::size_t> (u.structures.size (), 12);
+    for (std::size_t k = 0; k < shown; ++k)
+    {
+      const auto &x = u.structures[k];
+      d << k << " " << std::max (x.strength, floor) << " " << (x.significant ? 2 : 1) << " \"" << x.structure
+        << "\"\n";
+    }
+    d.close ();
+    std::ofstream c (work + "/correlation.dat");
+    const std::size_t lags = u.correlations.empty () ? 0 : u.correlations[0].measured.size ();
+    for (std::size_t k = 0; k < lags; ++k)
+    {
+      c << k + 1;
+      for (const auto &cor : u.correlations)
+        c << " " << cor.measured[k] << " " << cor.model[k];
+      c << "\n";
+    }
+    c.close ();
+    ResidualDiagnosticsSettings defaults;
+    std::ofstream g (work + "/unexplained.gp");
+    AtomicFile png (folder + "/unexplained.png");
+    g << "set terminal pngcairo size 1100,480 font 'Sans,10'\nset output '" << png.temporaryPath () << "'\n"
+      << "set multiplot layout 1,2\nset grid\nset xtics noenhanced rotate by -35\nset bmargin 7\n"
+      << "set title 'What the final model leaves: strength beyond its own replicas'\n"
+      << "set ylabel 'strength (share of the residual variance)'\nset logscale y\nset yrange [" << floor << ":2]\n"
+      << "set style fill solid 0.6\nset boxwidth 0.7\nset key top right\nset xrange [-0.6:" << shown - 0.4 << "]\n"
+      << "plot '" << work << "/unexplained.dat' using 1:($3==2?$2:1/0):xtic(4) with boxes lc rgb '#c03020' "
+      << "title 'significant', '' using 1:($3==1?$2:1/0):xtic(4) with boxes lc rgb '#8090a0' title 'not significant', "
+      << defaults.min_strength << " with lines dt 2 lc 'black' title 'practical threshold'\n"
+      << "unset logscale y\nset xtics norotate\nset bmargin 9\nset xrange [0.5:" << lags + 0.5 << "]\nset yrange [*:*]\n"
+      << "set key below maxrows 3\nset title 'Residual autocorrelation after the frame, row and column offsets'\n"
+      << "set xlabel 'lag (pixels along rows and columns, frames in time)'\nset ylabel 'autocorrelation'\n"
+      << "plot '" << work << "/correlation.dat' using 1:2 with linespoints lw 2 pt 7 lc 1 title 'along rows, data', "
+      << "'' using 1:3 with lines lw 1 dt 2 lc 1 title 'along rows, model', "
+      << "'' using 1:4 with linespoints lw 2 pt 5 lc 2 title 'along columns, data', "
+      << "'' using 1:5 with lines lw 1 dt 2 lc 2 title 'along columns, model', "
+      << "'' using 1:6 with linespoints lw 2 pt 9 lc 3 title 'over time, data', "
+      << "'' using 1:7 with lines lw 1 dt 2 lc 3 title 'over time, model'\n"
+      << "unset multiplot\n";
+    g.close ();
+    drawPlot (work + "/unexplained.gp", png);
   }
 
   // --- maps of the SD ratio and the bias residual, one panel per recording (up to 6)
@@ -667,6 +742,39 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     << "0.5em 0}td,th{border:1px solid #bbb;padding:3px 7px;font-size:90%}th{background:#eee}img{max-width:100%}"
     << ".sig{color:#060;font-weight:bold}pre{background:#f6f6f6;padding:0.5em;overflow-x:auto;font-size:80%}"
     << "</style></head><body>\n<h1>pcl_texlet model lab</h1>\n";
+  {
+    // The structure no effect of the model explains, said first.
+    auto said = [&] (const ResidualDiagnostics &u, const std::string &model) {
+      std::vector<const UnexplainedStructure *> sig;
+      for (const auto &x : u.structures)
+        if (x.significant)
+          sig.push_back (&x);
+      if (sig.empty ())
+      {
+        h << "<p>" << escape (model) << ": nothing significant is left in the residuals (every structure below "
+          << "the practical threshold or within the model's own replicas).</p>\n";
+        return;
+      }
+      h << "<p>" << escape (model) << ": <b>" << escape (sig[0]->structure) << "</b> is the strongest structure the "
+        << "model does not explain.</p>\n<ul>\n";
+      for (const auto *x : sig)
+        h << "<li><b>" << escape (x->structure) << "</b>: " << escape (x->words) << " (z " << fmt (x->z, 3)
+          << ").</li>\n";
+      h << "</ul>\n";
+    };
+    h << "<h2>What the model leaves unexplained</h2>\n<p>Each structure is measured on the residuals and on "
+      << "replicas of the model's own noise on the same pixels (its column and frame offsets included); its "
+      << "strength is the difference, and it is significant when that is at least "
+      << fmt (ResidualDiagnosticsSettings ().min_z, 2) << " replica SDs and at least "
+      << fmt (ResidualDiagnosticsSettings ().min_strength, 2) << " (docs/model_lab.md, \"What no effect "
+      << "explains\"). A vocabulary effect in the model takes its structure off the list.</p>\n";
+    said (s.unexplained, s.steps.empty () ? "The model refitted" : "The final model");
+    said (s.start_unexplained, "The model as given (" + s.start_name + ")");
+    image ("unexplained.png", "Left: the strongest structures the final model leaves (significant in red; log "
+                              "scale; dashed: the practical threshold). Right: the residuals' autocorrelation "
+                              "along rows, along columns and over time, data (solid) against the model's replicas "
+                              "(dashed).");
+  }
   h << "<h2>Recordings</h2><table><tr><th>recording</th><th>frames</th><th>size</th><th>scene</th><th>projectors</th>"
     << "<th>pixels compared</th><th>left out (too few valid frames)</th><th>never valid</th></tr>\n";
   for (const auto &r : recs)

@@ -7,6 +7,7 @@
 
 #include <pcl_texlet/lab/disparity_lattice.h>
 #include <pcl_texlet/lab/model_lab.h>
+#include <pcl_texlet/lab/residual_diagnostics.h>
 
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@ struct LabStep
   LabMetrics metrics;
   NoiseModel model;
   bool from_auto = false;   ///< chosen by --auto (the best significant candidate)
+  ResidualDiagnostics unexplained; ///< the structure the model leaves after this step
 };
 
 /** \brief A whole lab session. */
@@ -36,6 +38,8 @@ struct LabSession
   std::vector<Candidate> candidates;    ///< ranked against the starting model
   std::vector<LabStep> steps;           ///< effects added, in order
   NoiseModel final_model;               ///< the last step's model, or the start refitted
+  ResidualDiagnostics start_unexplained; ///< the structure the model as given leaves
+  ResidualDiagnostics unexplained;      ///< the structure the final model leaves (report.json "unexplained")
   std::vector<std::string> notes;       ///< what the lab could not do, and why
   std::size_t skipped_frames = 0;       ///< frames the caller could not read and skipped (report.json)
   DisparityLattice lattice;             ///< the depth values' disparity lattice, beside camera.yaml's
@@ -49,8 +53,8 @@ LabSession
 runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &start_name,
                const std::vector<std::string> &add, int auto_count);
 
-/** \brief report.json text (keys: model, metrics, candidates, steps, skipped_frames, notes,
-  * disparity_lattice).
+/** \brief report.json text (keys: model, metrics, unexplained, start_unexplained, candidates,
+  * steps, skipped_frames, notes, disparity_lattice).
   */
 std::string
 labReportJson (const LabSession &session);
