@@ -236,8 +236,9 @@ texletWarpKernel (DeviceFrame frame, kernels::FrameSettings<S> fs, kernels::HexG
       nb.sigma = ws.sigma;
     }
     const double zsum = k::depthSum (ws.z, count);
-    k::discSharedNoise (frame, cu, cv, zsum, count, ws.pixel, nb);
-    S threshold = k::ransacThreshold (frame, fs, cu, cv, zsum, count, nb);
+    const k::CentreNoise noise = frame.centreNoise (cu, cv, zsum / count);
+    k::discSharedNoise (noise, ws.pixel, frame.width (), nb);
+    S threshold = k::ransacThreshold (fs, noise, nb);
 
     // 2. RANSAC, lane = hypothesis.
     k::Plane<S> plane = {{S (0), S (0), S (0)}, S (0)};

@@ -244,9 +244,14 @@ struct DeviceFrame
   }
   PCL_TEXLET_HD double
   sigma (int index, double z) const { return modelSigma (index % cloud.width, index / cloud.width, z); }
-  /** \brief None of the polynomial terms' variance is shared. */
-  PCL_TEXLET_HD kernels::SharedNoise
-  sharedNoise (int, int, double) const { return kernels::SharedNoise (); }
+  /** \brief The model's SD at a texlet's centre; none of the polynomial terms' variance is shared. */
+  PCL_TEXLET_HD kernels::CentreNoise
+  centreNoise (int u, int v, double z) const
+  {
+    kernels::CentreNoise c;
+    c.sigma = modelSigma (u, v, z);
+    return c;
+  }
 
   PCL_TEXLET_HD bool
   hasColour () const { return colour; }

@@ -54,11 +54,13 @@ struct Neighbourhood
   column (int i) const { return pixel[i] % width; }
 };
 
-/** \brief What a frame tells about the depth noise that a texlet's points share (the noise
-  * model's column variance over the whole, and its correlation length across columns).
+/** \brief The noise model at a texlet's centre pixel and its points' mean depth, from one
+  * evaluation: the depth SD, and the part of its variance the points share (the column variance
+  * over the whole) with its correlation length across columns.
   */
-struct SharedNoise
+struct CentreNoise
 {
+  double sigma = 0.0;               ///< depth SD, metres
   double fraction = 0.0;            ///< Neighbourhood::shared_fraction
   /** columns over which the correlation falls by e; infinite (as NoiseMoments'), or <= 0: no fall */
   double column_correlation_px = std::numeric_limits<double>::infinity ();

@@ -10,9 +10,9 @@
  *   P point (int u, int v) const, point (std::ptrdiff_t index) const;  (index = v * width + u)
  *   bool valid (const P &) const;                whether a point has a depth reading
  *   double sigma (int index, double z) const;    depth SD in metres of the point at a pixel, depth z
- *   double modelSigma (int u, int v, double z) const;  the noise model's depth SD there (metres)
- *   SharedNoise sharedNoise (int u, int v, double z) const;  the part of the model's depth variance
- *       there that a texlet's points share, and its correlation length across columns
+ *   CentreNoise centreNoise (int u, int v, double z) const;  the noise model's depth SD there
+ *       (metres), the part of its variance a texlet's points share, and its correlation length
+ *       across columns
  *   bool hasColour () const;
  *   void addColour (int index, unsigned &r, unsigned &g, unsigned &b) const;  adds a pixel's colour
  *   double varianceScale (int cu, int cv, const TexletResult<S> &) const;  rescale of the
@@ -170,15 +170,14 @@ pointSigmas (const Frame &frame, const TexletScratch<S> &ws, int first, int coun
     ws.sigma[i] = static_cast<S> (frame.sigma (ws.pixel[i], ws.z[i]));
 }
 
-/** \brief The RANSAC threshold of the texlet at (cu, cv): the fixed one, or threshold_sigmas
-  * depth SDs of the noise model at the centre pixel and the gathered points' mean depth, less
+/** \brief The RANSAC threshold of a texlet: the fixed one, or threshold_sigmas depth SDs of
+  * the noise model at its centre (\a noise: at the centre pixel and the points' mean depth), less
   * the part the disc shares (nb.shared_fraction: it moves the plane, not a point off it): the
   * larger of the unshared part and the part of the shared one that decorrelates across the
   * disc's columns and no plane absorbs; never below fs.min_sigma.
   */
-template <typename S, typename Frame> PCL_TEXLET_HD S
-ransacThreshold (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, double zsum, int count,
-                 const Neighbourhood<S> &nb)
+template <typename S> PCL_TEXLET_HD S
+ransacThreshold (const FrameSettings<S> &fs, const CentreNoise &noise, const Neighbourhood<S> &nb)
 {
   if (fs.fixed_threshold > 0.0)
     return static_cast<S> (fs.fixed_threshold);
@@ -193,23 +192,22 @@ ransacThreshold (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv,
                                 (2.0 * fs.disc.radius + 1.0) / 15.0;
     own = std::sqrt (unshared > decorrelated ? unshared : decorrelated);
   }
-  const double sd = frame.modelSigma (cu, cv, zsum / count) * own;
+  const double sd = noise.sigma * own;
   return static_cast<S> (fs.threshold_sigmas * (sd > fs.min_sigma ? sd : fs.min_sigma));
 }
 
-/** \brief The noise the points of the disc around (cu, cv) share (frame.sharedNoise () at the
-  * gathered points' mean depth) into \a nb: shared_fraction within [0, 1], and the correlation
-  * of adjacent columns with the points' pixel indices \a pixel.
+/** \brief The noise the points of a disc share (\a s: the frame's centreNoise ()) into \a nb:
+  * shared_fraction within [0, 1], and the correlation of adjacent columns with the points' pixel
+  * indices \a pixel in a frame of \a width.
   */
-template <typename S, typename Frame> PCL_TEXLET_HD void
-discSharedNoise (const Frame &frame, int cu, int cv, double zsum, int count, const int *pixel, Neighbourhood<S> &nb)
+template <typename S> PCL_TEXLET_HD void
+discSharedNoise (const CentreNoise &s, const int *pixel, int width, Neighbourhood<S> &nb)
 {
-  const SharedNoise s = frame.sharedNoise (cu, cv, zsum / count);
   nb.shared_fraction = static_cast<S> (s.fraction > 0.0 ? (s.fraction < 1.0 ? s.fraction : 1.0) : 0.0);
   const double L = s.column_correlation_px;
   nb.column_correlation = static_cast<S> (L > 0.0 && L < 1e30 ? std::exp (-1.0 / L) : 1.0);
   nb.pixel = pixel;
-  nb.width = frame.width ();
+  nb.width = width;
 }
 
 /** \brief The inliers' mean colour as PCL's rgba word (alpha 255), 0 for a frame without colour. */
@@ -321,9 +319,10 @@ frameTexlet (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, con
     pointSigmas (frame, ws, 0, count, 1);
     nb.sigma = ws.sigma;
   }
-  discSharedNoise (frame, cu, cv, zsum, count, ws.pixel, nb);
+  const CentreNoise noise = frame.centreNoise (cu, cv, zsum / count);
+  discSharedNoise (noise, ws.pixel, frame.width (), nb);
   TexletSettings<S> st = fs.kernel;
-  st.threshold = ransacThreshold (frame, fs, cu, cv, zsum, count, nb);
+  st.threshold = ransacThreshold (fs, noise, nb);
 
   TexletResult<S> r;
   kernel (nb, st, centre, ws.mask, ws.work, r);

@@ -102,20 +102,25 @@ public:
     return depthSigmaMetres (noise_, camera_, u, v, z, context_);
   }
 
-  /** The part of the model's depth variance at pixel (u, v) and depth z (metres) that a texlet's
-    * points share: the variance shared by a column of pixels within a frame (column bands,
-    * frame offsets) over the whole, with its correlation length across columns at this
-    * image's width (docs/texlet_covariances.md).
+  /** The model at a texlet's centre pixel (u, v) and depth z (metres), from one evaluation: its
+    * depth SD (as modelSigma), and the part of its variance that the texlet's points share: the
+    * variance shared by a column of pixels within a frame (column bands, frame offsets) over the
+    * whole, with its correlation length across columns at this image's width
+    * (docs/texlet_covariances.md).
     */
-  kernels::SharedNoise
-  sharedNoise (int u, int v, double z) const
+  kernels::CentreNoise
+  centreNoise (int u, int v, double z) const
   {
-    kernels::SharedNoise s;
+    kernels::CentreNoise s;
     if (polynomial_only_)
+    {
+      s.sigma = modelSigma (u, v, z);
       return s;
+    }
     PixelContext ctx = PixelContextBuilder (context_).at (u, v, camera_.principalPointDistance (u, v), z * 1000.0);
     ctx.image_width_px = this->width ();
     const NoiseMoments m = noise_.moments (ctx);
+    s.sigma = m.sigma_mm * 1e-3;
     const double total = m.sigma_mm * m.sigma_mm;
     s.fraction = total > 0.0 && std::isfinite (m.column_variance_mm2) ? m.column_variance_mm2 / total : 0.0;
     s.column_correlation_px = m.column_correlation_px;
