@@ -95,3 +95,22 @@ TEST (ResidualDiagnostics, DriftInTheModelTakesFramesOffTheList)
     if (s.structure == "frames")
       EXPECT_FALSE (s.significant) << s.words;
 }
+
+// Vocabulary effects the refitted paper model lacks show in their own covariate. (Hidden radial
+// or axial_quadratic noise leaves nothing: the refitted polynomial in radius and depth holds it.)
+TEST (ResidualDiagnostics, FindsTheQuantisationPhase)
+{
+  expectFirst (diagnose ({"disparity_quantization"}, 991, "disparity_quantization"), "covariate:disparity_phase");
+}
+
+TEST (ResidualDiagnostics, FindsTheDistortionAsABiasMap)
+{
+  const auto d = diagnose ({"depth_distortion"}, 1001, "depth_distortion");
+  expectFirst (d, "covariate:radius");
+  EXPECT_NE (d.firstSignificant ()->words.find ("bias"), std::string::npos);
+}
+
+TEST (ResidualDiagnostics, FindsTheIncidenceAngle)
+{
+  expectFirst (diagnose ({"incidence_angle"}, 1021, "incidence_angle"), "covariate:incidence_angle");
+}
