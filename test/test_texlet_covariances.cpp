@@ -102,10 +102,8 @@ expectStripesInSigmaP (const std::vector<lab::RecordingMeasurement::ConstPtr> &r
     EXPECT_NEAR (c.ratioP (), 1.0, 0.5) << what << ", " << toString (method);
     // N: a band boundary crosses the disc in some frames and tilts the texlet; Sigma_N holds it
     // on average over the layouts (columns correlated by exp(-du / L)), so the NEES is a mixture:
-    // below its ideal in most frames, far above it in the few with a boundary. Measured: median
-    // ratio 0.31-0.50, mean 3.9-9.1 (with the disc sharing the offsets whole: 1.5-2.2 and 46-69;
-    // mean 3.4-5.5 while the RANSAC threshold took the unshared part alone, which dropped one
-    // side of a band boundary more often).
+    // below its ideal in most frames, far above it in the few with a boundary (figures:
+    // docs/texlet_covariances.md, section 6).
     EXPECT_LT (c.medianRatioN (), 1.0) << what << ", " << toString (method);
     EXPECT_LT (c.ratioN (), 10.0) << what << ", " << toString (method);
   }
