@@ -27,46 +27,53 @@ namespace lab
 using namespace detail;
 
 void
-ModelLab::predict (const NoiseModel &model, std::size_t r, std::vector<float> &sd_mm, std::vector<float> &mean_mm) const
+ModelLab::predict (const NoiseModel &model, std::vector<std::vector<float>> &sd_all,
+                   std::vector<std::vector<float>> &mean_all) const
 {
   const std::shared_ptr<const Data> data_all = data (Half::all, model);
   const Data &d = *data_all;
-  const RecordingMeasurement &m = *recordings_.at (r);
   const ModelView mv (model);
   StaticState s;
   staticFit (mv, d, recordings_, GridFit::none, s);
-  const std::size_t n = static_cast<std::size_t> (m.width) * m.height;
-  sd_mm.assign (n, std::numeric_limits<float>::quiet_NaN ());
-  mean_mm.assign (n, std::numeric_limits<float>::quiet_NaN ());
-  double drift_var = 0;
-  const PixelContext &rep = d.rep[r];
-  const double Jr = kernels::depthPerDisparityMm (rep.true_depth_mm, rep.fb_px_m);
-  if (frameDependent (model))
+  sd_all.resize (recordings_.size ());
+  mean_all.resize (recordings_.size ());
+  for (std::size_t r = 0; r < recordings_.size (); ++r)
   {
-    double s1 = 0, s2 = 0;
-    for (int t : d.frame_list[r])
+    const RecordingMeasurement &m = *recordings_[r];
+    std::vector<float> &sd_mm = sd_all[r], &mean_mm = mean_all[r];
+    const std::size_t n = static_cast<std::size_t> (m.width) * m.height;
+    sd_mm.assign (n, std::numeric_limits<float>::quiet_NaN ());
+    mean_mm.assign (n, std::numeric_limits<float>::quiet_NaN ());
+    double drift_var = 0;
+    const PixelContext &rep = d.rep[r];
+    const double Jr = kernels::depthPerDisparityMm (rep.true_depth_mm, rep.fb_px_m);
+    if (frameDependent (model))
     {
-      const double b = frameBias (mv.without_grid, rep, t) / Jr;
-      s1 += b;
-      s2 += b * b;
+      double s1 = 0, s2 = 0;
+      for (int t : d.frame_list[r])
+      {
+        const double b = frameBias (mv.without_grid, rep, t) / Jr;
+        s1 += b;
+        s2 += b * b;
+      }
+      const double k = static_cast<double> (d.frame_list[r].size ());
+      drift_var = k > 1 ? (s2 - s1 * s1 / k) / (k - 1) : 0.0;
     }
-    const double k = static_cast<double> (d.frame_list[r].size ());
-    drift_var = k > 1 ? (s2 - s1 * s1 / k) / (k - 1) : 0.0;
-  }
-  const double fb1000 = 1000.0 * m.fb ();
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    if (!m.used[i])
-      continue;
-    const double J = kernels::depthPerDisparityMm (m.surface_mm[i], m.fb ());
-    const NoiseMoments mo = model.moments (pixelContext (m, i));
-    const double x = (double (i % m.width) - m.camera.cx ()) / m.camera.fx ();
-    const double y = (double (i / m.width) - m.camera.cy ()) / m.camera.fy ();
-    const double disparity = d.plane[r] ? s.planes[r].dot (Eigen::Vector3d (1.0, x, y)) : fb1000 / m.surface_mm[i];
-    const double mean = predictedMeanMm (disparity, fb1000, mo.bias_mm, J);
-    const RecordedMoments recorded = recordedMoments (model, mv.quantised, mo.variance_mm2, mean);
-    sd_mm[i] = static_cast<float> (std::sqrt (recorded.variance_mm2 + mo.column_variance_mm2 + J * J * drift_var));
-    mean_mm[i] = static_cast<float> (mean + recorded.mean_offset_mm);
+    const double fb1000 = 1000.0 * m.fb ();
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      if (!m.used[i])
+        continue;
+      const double J = kernels::depthPerDisparityMm (m.surface_mm[i], m.fb ());
+      const NoiseMoments mo = model.moments (pixelContext (m, i));
+      const double x = (double (i % m.width) - m.camera.cx ()) / m.camera.fx ();
+      const double y = (double (i / m.width) - m.camera.cy ()) / m.camera.fy ();
+      const double disparity = d.plane[r] ? s.planes[r].dot (Eigen::Vector3d (1.0, x, y)) : fb1000 / m.surface_mm[i];
+      const double mean = predictedMeanMm (disparity, fb1000, mo.bias_mm, J);
+      const RecordedMoments recorded = recordedMoments (model, mv.quantised, mo.variance_mm2, mean);
+      sd_mm[i] = static_cast<float> (std::sqrt (recorded.variance_mm2 + mo.column_variance_mm2 + J * J * drift_var));
+      mean_mm[i] = static_cast<float> (mean + recorded.mean_offset_mm);
+    }
   }
 }
 

@@ -166,6 +166,24 @@ makeCovariate (const std::string &name, const std::string &words, const std::vec
   return c;
 }
 
+/** Turns the weighted sums \a offset of each line (row or column) into its offset, fitted by
+  * weights \a weight2 (sums of squared weights) over \a count samples, and adds each offset's
+  * share of its samples' variance to \a share (lines of fewer than 2 samples: offset 0). */
+void
+finishOffsets (std::vector<double> &offset, const std::vector<double> &weight2, const std::vector<int> &count,
+               double &share, double &lines)
+{
+  for (std::size_t k = 0; k < offset.size (); ++k)
+    if (count[k] > 1 && weight2[k] > 0)
+    {
+      offset[k] /= weight2[k];
+      share += offset[k] * offset[k] * weight2[k] / count[k];
+      lines += 1;
+    }
+    else
+      offset[k] = 0;
+}
+
 /** Adds the statistics of one recording's depths \a y (frames x pixels, mm, NaN: none; the
   * model's drift taken out) to \a s. \a e is scratch of the same size.
   * Offsets are fitted in the shape of a disparity offset (a pattern shift moves a pixel's depth
@@ -235,6 +253,7 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
     x /= w_unit; // mean square 1 over the pixels
 
   std::vector<double> row (H), col (W), row_w (H), col_w (W);
+  std::vector<int> row_n (H), col_n (W);
   double previous_F = std::numeric_limits<double>::quiet_NaN ();
   for (int t = 0; t < T; ++t)
   {
@@ -266,7 +285,8 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
     std::fill (col.begin (), col.end (), 0.0);
     std::fill (row_w.begin (), row_w.end (), 0.0);
     std::fill (col_w.begin (), col_w.end (), 0.0);
-    std::vector<int> row_n (H, 0), col_n (W, 0);
+    std::fill (row_n.begin (), row_n.end (), 0);
+    std::fill (col_n.begin (), col_n.end (), 0);
     for (int v = 0; v < H; ++v)
       for (int u = 0; u < W; ++u)
       {
@@ -282,24 +302,8 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
         col_w[u] += w[i] * w[i];
         ++col_n[u];
       }
-    for (int v = 0; v < H; ++v)
-      if (row_n[v] > 1 && row_w[v] > 0)
-      {
-        row[v] /= row_w[v];
-        s.rows += row[v] * row[v] * row_w[v] / row_n[v];
-        s.rows_n += 1;
-      }
-      else
-        row[v] = 0;
-    for (int u = 0; u < W; ++u)
-      if (col_n[u] > 1 && col_w[u] > 0)
-      {
-        col[u] /= col_w[u];
-        s.columns += col[u] * col[u] * col_w[u] / col_n[u];
-        s.columns_n += 1;
-      }
-      else
-        col[u] = 0;
+    finishOffsets (row, row_w, row_n, s.rows, s.rows_n);
+    finishOffsets (col, col_w, col_n, s.columns, s.columns_n);
     for (int v = 0; v < H; ++v)
       for (int u = 0; u < W; ++u)
       {
@@ -459,12 +463,20 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
   const auto &recordings = lab.recordings ();
   std::vector<RecordingModel> recs (recordings.size ());
   const bool drifts = frameDependent (model);
+  {
+    std::vector<std::vector<float>> sd, mean;
+    lab.predict (model, sd, mean);
+    for (std::size_t r = 0; r < recordings.size (); ++r)
+    {
+      recs[r].sd = std::move (sd[r]);
+      recs[r].mean = std::move (mean[r]);
+    }
+  }
   for (std::size_t r = 0; r < recordings.size (); ++r)
   {
     RecordingModel &rm = recs[r];
     const RecordingMeasurement &m = *recordings[r];
     rm.m = &m;
-    lab.predict (model, r, rm.sd, rm.mean);
     const std::size_t n = static_cast<std::size_t> (m.width) * m.height;
     rm.own.assign (n, 0.0f);
     rm.column.assign (n, 0.0f);
@@ -586,7 +598,7 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
 
   // Each statistic on the data against its replicas.
   ResidualDiagnostics out;
-  auto judge = [&] (const std::string &name, auto statistic, const std::string &words_of) {
+  auto judge = [&] (const std::string &name, auto statistic) {
     std::vector<double> null;
     for (int k = 1; k < runs; ++k)
       null.push_back (statistic (stats[k]));
@@ -595,18 +607,17 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
     u.strength = statistic (stats[0]) - mean (null);
     u.z = u.strength / std::max (sd (null), 1e-12);
     u.significant = u.z >= settings.min_z && u.strength >= settings.min_strength;
-    u.words = words_of;
     return u;
   };
   auto ratio = [] (double s, double n) { return n > 0 ? s / n : 0.0; };
   // A row's (a column's) offsets hold the frame's: where they hold significantly more, their
   // strength is both together, so that bands outrank the frame offsets they imply.
-  const UnexplainedStructure frames = judge ("frames", [&] (const Stats &s) { return ratio (s.frames, s.frames_n); }, "");
+  const UnexplainedStructure frames = judge ("frames", [&] (const Stats &s) { return ratio (s.frames, s.frames_n); });
   for (const bool rows : {true, false})
   {
     UnexplainedStructure u = judge (rows ? "rows" : "columns", [&] (const Stats &s) {
       return rows ? ratio (s.rows, s.rows_n) : ratio (s.columns, s.columns_n);
-    }, "");
+    });
     const double beyond = u.strength;
     if (u.significant)
       u.strength += frames.strength;
@@ -627,8 +638,8 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
     out.structures.push_back (u);
   }
   {
-    const UnexplainedStructure along_rows = judge ("spatial_correlation", [] (const Stats &s) { return s.acf (0, 0); }, "");
-    const UnexplainedStructure along_cols = judge ("spatial_correlation", [] (const Stats &s) { return s.acf (1, 0); }, "");
+    const UnexplainedStructure along_rows = judge ("spatial_correlation", [] (const Stats &s) { return s.acf (0, 0); });
+    const UnexplainedStructure along_cols = judge ("spatial_correlation", [] (const Stats &s) { return s.acf (1, 0); });
     UnexplainedStructure u = along_rows.strength >= along_cols.strength ? along_rows : along_cols;
     u.significant = along_rows.significant || along_cols.significant;
     u.words = "neighbouring pixels' noise is correlated (after the row, column and frame offsets): at 1 px, " +
@@ -637,15 +648,15 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
     out.structures.push_back (u);
   }
   {
-    UnexplainedStructure u = judge ("temporal_correlation", [] (const Stats &s) { return s.acf (2, 0); }, "");
+    UnexplainedStructure u = judge ("temporal_correlation", [] (const Stats &s) { return s.acf (2, 0); });
     u.words = "a pixel's noise is correlated from one frame to the next: " + fixed (u.strength, 2) +
               " beyond the model at a lag of 1 frame";
     out.structures.push_back (u);
   }
   for (std::size_t c = 0; c < cov.size (); ++c)
   {
-    const UnexplainedStructure v = judge ("covariate:" + cov[c].name, [c] (const Stats &s) { return s.spread (c, false); }, "");
-    const UnexplainedStructure b = judge ("covariate:" + cov[c].name, [c] (const Stats &s) { return s.spread (c, true); }, "");
+    const UnexplainedStructure v = judge ("covariate:" + cov[c].name, [c] (const Stats &s) { return s.spread (c, false); });
+    const UnexplainedStructure b = judge ("covariate:" + cov[c].name, [c] (const Stats &s) { return s.spread (c, true); });
     UnexplainedStructure u = v.strength >= b.strength ? v : b;
     u.significant = v.significant || b.significant;
     u.words = "the residual " + std::string (v.strength >= b.strength ? "variance" : "bias") + " changes with the " +

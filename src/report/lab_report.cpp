@@ -414,10 +414,18 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
 
   // --- per-pixel comparisons of the start and the final model
   std::vector<PixelComparison> first (recs.size ()), last (recs.size ());
-  for (std::size_t r = 0; r < recs.size (); ++r)
   {
-    lab.predict (s.start, r, first[r].sd_pred, first[r].mean_pred);
-    lab.predict (s.final_model, r, last[r].sd_pred, last[r].mean_pred);
+    std::vector<std::vector<float>> sd, mean;
+    for (const bool start : {true, false})
+    {
+      lab.predict (start ? s.start : s.final_model, sd, mean);
+      auto &to = start ? first : last;
+      for (std::size_t r = 0; r < recs.size (); ++r)
+      {
+        to[r].sd_pred = std::move (sd[r]);
+        to[r].mean_pred = std::move (mean[r]);
+      }
+    }
   }
 
   // --- staircase: the error after each added effect

@@ -192,11 +192,13 @@ public:
   context (std::size_t r, std::size_t i) const;
 
   /** \brief Per-pixel predicted temporal SD and mean depth (surface refitted to the model's
-    * bias, plus the bias) of \a model for recording \a r over all frames, for maps and curves.
-    * NaN where the pixel is not used.
+    * bias, plus the bias) of \a model over all frames, for maps and curves: one vector per
+    * recording, NaN where the pixel is not used. One fit of the static bias serves every
+    * recording.
     */
   void
-  predict (const NoiseModel &model, std::size_t r, std::vector<float> &sd_mm, std::vector<float> &mean_mm) const;
+  predict (const NoiseModel &model, std::vector<std::vector<float>> &sd_mm,
+           std::vector<std::vector<float>> &mean_mm) const;
 
   /** \brief Predicted frame-dependent bias (mm, relative to the steady state) of \a model at the
     * central pixel of recording \a r for each of its frames, and the measured mean offset of
