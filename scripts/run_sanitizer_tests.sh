@@ -42,8 +42,9 @@ status=0
 # generator's lattice case; the Release suite runs them all (docs/fuzzing.md, "In CI").
 proofs='^ModelLabProof[.](FindsQuantisation|FindsVertical|FindsIncidence|FindsInterference|FindsTemporal|FindsDisparity|Nothing)'
 proofs+='|^ModelLabIndependentProof[.](FindsQuantisation|FindsVertical|FindsIncidence|FindsInterference|FindsADrift|FindsDepth|Nothing|FindsDisparityQuantization$)'
-# Of the residual diagnostics' cases (the same code on other walls) the clean walls run here.
-proofs+='|^ResidualDiagnostics[.](Finds|StripesInTheModel|DriftInTheModel)'
+# Of the residual diagnostics' cases (the same code on other walls) the clean walls run here; of the
+# terms built from the data, the case without colour frames.
+proofs+='|^ResidualDiagnostics[.](Finds|StripesInTheModel|DriftInTheModel)|^DataDrivenTerms[.]IntensityTermExplains'
 LD_PRELOAD=$(pwd)/test/sanitizer/libkeep_modules_loaded.so ctest --output-on-failure -j "$jobs" -E "$proofs" || status=$?
 t2=$(date +%s)
 echo "run_sanitizer_tests: build $((t1 - t0)) s, ctest $((t2 - t1)) s (jobs=$jobs), status $status"

@@ -295,12 +295,14 @@ TEST (SimulatorEffects, CatalogueFollowsTheDesignVocabulary)
   const std::vector<std::string> expected = {"axial_quadratic", "radial",        "disparity_quantization",
                                              "incidence_angle", "vertical_stripes", "depth_distortion",
                                              "interference",    "temporal_drift", "lateral_noise",
-                                             "intrinsics"};
+                                             "intrinsics",      "covariate:intensity"};
   std::vector<std::string> names;
   for (const auto &e : effectCatalogue ())
   {
     names.push_back (e.name);
-    EXPECT_FALSE (e.parameters.empty ()) << e.name;
+    // Terms built from the data (named by a structure, with a colon) have no generative form.
+    EXPECT_EQ (e.simulated, e.name.find (':') == std::string::npos) << e.name;
+    EXPECT_EQ (e.parameters.empty (), !e.simulated) << e.name;
     for (const auto &p : e.parameters)
       EXPECT_FALSE (p.unit.empty ()) << e.name << "." << p.name;
   }
@@ -316,6 +318,8 @@ TEST (SimulatorEffects, CatalogueFollowsTheDesignVocabulary)
   EXPECT_EQ (enabledEffects (fx), std::vector<std::string> ({"interference"}));
   expectError<pcl::BadArgumentException> ([&] { setEffectEnabled (fx, "speckle", true); },
                                           {"unknown effect 'speckle'"});
+  expectError<pcl::BadArgumentException> ([&] { setEffectEnabled (fx, "covariate:intensity", true); },
+                                          {"covariate:intensity", "the simulator cannot draw it"});
   expectError<pcl::BadArgumentException> ([&] { setEffectParameter (fx, "radial", "sigma", 1); },
                                           {"has no parameter 'sigma' (its parameters: gain, reference_radius_px)"});
   expectError<pcl::BadArgumentException> ([&] { setEffectParameter (fx, "vertical_stripes", "bands", 2.5); },

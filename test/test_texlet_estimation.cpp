@@ -9,11 +9,13 @@
 #include <pcl_texlet/features/texlet_estimation.h>
 #include <pcl_texlet/kernels/hex_grid.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
+#include <pcl_texlet/noise/noise_terms.h>
 
 #include <pcl/common/io.h>
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 using namespace pcl_texlet_test;
@@ -603,4 +605,50 @@ TEST (TexletEstimation, PerPixelNoiseFollowsTheCameraAndEqualsTheGeneralModel)
     ASSERT_EQ (slow.size (), fresh.size ());
     EXPECT_EQ (0, std::memcmp (slow.data (), fresh.data (), fresh.size () * sizeof (pcl::Texlet)));
   }
+}
+
+TEST (TexletEstimation, GreyLevelOfColourPointsReachesTheNoiseModel)
+{
+  // covariate:intensity multiplies every variance of a point by exp (log_factor_black) on a
+  // black surface and by 1 on a white one; first-order propagation is linear in the variances,
+  // so with the same inliers (a fixed threshold) the analytic Sigma_P and Sigma_N scale by that factor. A
+  // point type without colour has no grey level: factor 1.
+  const CameraSpec cam;
+  const auto paper = pcl::texlet::NoiseModel::paper ();
+  const Render r = render (sphereScene (), cam, &paper, 7);
+  const pcl::texlet::NoiseTerm::Ptr term = pcl::texlet::makeNoiseTerm ("covariate:intensity");
+  term->setParameters ({std::log (4.0), 1.0, 0.5, 0.25});
+  pcl::texlet::NoiseModel model = paper;
+  model.add (*term);
+  auto run = [&] (auto cloud) {
+    pcl::TexletEstimation<typename decltype (cloud)::element_type::PointType> est;
+    est.setInputCloud (cloud);
+    est.setNoiseModel (model);
+    est.setCameraModel (std::make_shared<pcl::texlet::PinholeModel> (cam.pinhole ()));
+    est.setRansacThreshold (1.0);
+    est.setUncertaintyMethod (UncertaintyMethod::Analytic);
+    pcl::PointCloud<pcl::Texlet> out;
+    est.compute (out);
+    return out;
+  };
+  auto grey = [&] (std::uint8_t g) {
+    auto c = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
+    pcl::copyPointCloud (r.cloud, *c);
+    for (auto &p : c->points)
+      p.r = p.g = p.b = g;
+    return c;
+  };
+  const auto none = run (r.cloud.makeShared ()), white = run (grey (255)), black = run (grey (0));
+  ASSERT_EQ (none.size (), black.size ());
+  std::size_t compared = 0;
+  for (std::size_t i = 0; i < none.size (); ++i)
+  {
+    if (!std::isfinite (none[i].cov_p_xx) || !(none[i].cov_p_xx > 0))
+      continue;
+    EXPECT_FLOAT_EQ (white[i].cov_p_xx, none[i].cov_p_xx);
+    EXPECT_NEAR (black[i].cov_p_zz / none[i].cov_p_zz, 4.0, 1e-4);
+    EXPECT_NEAR (black[i].cov_n_11 / none[i].cov_n_11, 4.0, 1e-4);
+    ++compared;
+  }
+  EXPECT_GT (compared, 100u);
 }

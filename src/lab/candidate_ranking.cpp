@@ -45,12 +45,13 @@ ModelLab::rankCandidates (const NoiseModel &current) const
 
   // Which effects the data can show at all.
   std::vector<Candidate> out;
-  bool any_plane = false, any_edges = false, repeated = false;
+  bool any_plane = false, any_edges = false, repeated = false, any_intensity = false;
   std::vector<double> projectors;
   for (const auto &r : recordings_)
   {
     any_plane = any_plane || r->plane_scene;
     repeated = repeated || r->frames >= 2;
+    any_intensity = any_intensity || !r->intensity.empty ();
     projectors.push_back (r->active_projectors);
     std::size_t near = 0;
     for (std::size_t i = 0; i < r->used.size (); ++i)
@@ -80,6 +81,8 @@ ModelLab::rankCandidates (const NoiseModel &current) const
       c.applicable = false, c.note = "needs recordings of at least 4 frames";
     else if ((info.lab_needs & effects::kNeedsDepthEdges) && !any_edges)
       c.applicable = false, c.note = "no depth edges in the recordings";
+    else if ((info.lab_needs & effects::kNeedsIntensity) && !any_intensity)
+      c.applicable = false, c.note = "needs colour frames (rgb/*.png) to know each pixel's grey level";
     out.push_back (c);
   }
 

@@ -47,6 +47,8 @@ pixelContext (const RecordingMeasurement &m, std::size_t i)
   c.true_depth_mm = m.surface_mm[i];
   c.cos_incidence = m.cos_incidence[i];
   c.edge_distance_px = std::min (m.edge_distance_px[i], 1e3f);
+  if (!m.intensity.empty ())
+    c.intensity = m.intensity[i] / 255.0;
   return c;
 }
 
@@ -143,8 +145,8 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
           Dtc[k * W + u] /= Ntc[k * W + u];
     }
 
-    // Covariate bins (recording, radius, depth, incidence angle, edge distance, and sub-step
-    // phase for the quantised set) of every pixel of the half: the bins' contexts are their
+    // Covariate bins (recording, radius, depth, incidence angle, edge distance, grey level, and
+    // sub-step phase for the quantised set) of every pixel of the half: the bins' contexts are their
     // pixels' mean covariates, and the column and frame offsets below average over all pixels.
     double zmin = 1e30, zmax = 0, rmax = 1;
     for (std::size_t i = 0; i < n; ++i)
@@ -170,12 +172,14 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         const int ab = std::min (7, static_cast<int> (angle / 11.25));
         const float e = m.edge_distance_px[i];
         const int eb = e < 2.0f ? 0 : (e < 5.0f ? 1 : 2);
+        // Grey level in 8 bins where the recording has colour frames (terms of the intensity).
+        const int ib = m.intensity.empty () ? 0 : std::min (7, static_cast<int> (m.intensity[i] / 32.0f));
         const double moved_px = distortion ? linearBiasPx (*distortion, distortion->parameters (), u, v,
                                                            m.surface_mm[i], m.fb ())
                                            : 0.0;
         const double phase = subStepPhase (fb1000 / m.surface_mm[i] + moved_px, stepOf (m), lattice.phase);
         const int qb = std::min (19, static_cast<int> (20 * phase));
-        const std::uint64_t key = ((((static_cast<std::uint64_t> (r) * 8 + rb) * 8 + zb) * 8 + ab) * 3 + eb);
+        const std::uint64_t key = ((((static_cast<std::uint64_t> (r) * 8 + rb) * 8 + zb) * 8 + ab) * 3 + eb) * 8 + ib;
         const std::uint64_t qkey = key * 20 + qb;
         for (int which = 0; which < 2; ++which)
         {
@@ -201,6 +205,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
           B.sz += m.surface_mm[i];
           B.scos += m.cos_incidence[i];
           B.sedge += std::min (e, 1e3f);
+          B.sintensity += m.intensity.empty () ? 0.0 : m.intensity[i] / 255.0;
           B.sphase += phase;
           B.sdistortion += moved_px;
           B.w += 1;
@@ -375,6 +380,8 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
       B.ctx.radius_px = B.sr / B.w;
       B.ctx.cos_incidence = B.scos / B.w;
       B.ctx.edge_distance_px = B.sedge / B.w;
+      if (!m.intensity.empty ())
+        B.ctx.intensity = B.sintensity / B.w;
       double z = B.sz / B.w;
       if (which)
       {

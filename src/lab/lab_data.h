@@ -53,7 +53,7 @@ struct Bin
 {
   PixelContext ctx;
   double dof = 0, ssw = 0, npix = 0, sum_log_n = 0;
-  double su = 0, sv = 0, sr = 0, sz = 0, scos = 0, sedge = 0, sphase = 0, sdistortion = 0, w = 0;
+  double su = 0, sv = 0, sr = 0, sz = 0, scos = 0, sedge = 0, sintensity = 0, sphase = 0, sdistortion = 0, w = 0;
   int rec = 0;
 };
 

@@ -92,7 +92,8 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
   TexletConsistency out;
   // Per pair: NEES of P over its chi-square median, NEES of N, and (n - 1) / n.
   std::vector<double> all_p, all_n, shrink;
-  pcl::TexletEstimation<pcl::PointXYZ, pcl::Texlet> estimation;
+  // Colour points: a term of the grey level (covariate:intensity) sees the recording's.
+  pcl::TexletEstimation<pcl::PointXYZRGBA, pcl::Texlet> estimation;
   estimation.setNoiseModel (model);
   estimation.setUncertaintyMethod (settings.uncertainty);
   estimation.setRadius (settings.radius_px);
@@ -122,7 +123,10 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
     frame.width = rec->width;
     frame.height = rec->height;
     const std::size_t n_px = static_cast<std::size_t> (rec->width) * rec->height;
-    auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
+    frame.rgb.clear ();
+    for (const float grey : rec->intensity)
+      frame.rgb.insert (frame.rgb.end (), 3, static_cast<std::uint8_t> (std::lround (std::min (255.0f, std::max (0.0f, grey)))));
+    auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
     for (int f = 0; f < used_frames; ++f)
     {
       const int t = used_frames > 1 ? static_cast<int> (std::lround (static_cast<double> (f) * (rec->frames - 1) /

@@ -1,6 +1,7 @@
 #include <pcl_texlet/noise/effect_adapter.h>
 #include <pcl_texlet/noise/effect_registry.h>
 #include <pcl_texlet/noise/effects/axial_quadratic.h>
+#include <pcl_texlet/noise/effects/covariate_intensity.h>
 #include <pcl_texlet/noise/effects/depth_distortion.h>
 #include <pcl_texlet/noise/effects/disparity_quantization.h>
 #include <pcl_texlet/noise/effects/incidence_angle.h>
@@ -41,6 +42,8 @@ EffectRegistry::vocabulary ()
     r.add<effects::TemporalDrift> ();
     r.add<effects::LateralNoise> ();
     r.add<effects::Intrinsics> ();
+    // Terms built from the data, named by the structure they take off the residuals.
+    r.add<effects::CovariateIntensity> ();
     return r;
   }();
   return registry;

@@ -79,7 +79,11 @@ isEffectEnabled (const SensorEffects &effects, const std::string &name)
 void
 setEffectEnabled (SensorEffects &effects, const std::string &name, bool enabled)
 {
-  effects.setEnabled (registry ().index (name), enabled);
+  const std::size_t index = registry ().index (name);
+  if (enabled && !registry ().info (index).simulated)
+    throw pcl::BadArgumentException ("effect '" + name + "' is a term of the noise model only (" +
+                                     registry ().info (index).summary + "): the simulator cannot draw it");
+  effects.setEnabled (index, enabled);
 }
 
 double

@@ -11,6 +11,7 @@
 #include <pcl_texlet/kernels/texlet_kernel.h>
 // Every effect file: its generative hooks and closed forms must run on the device.
 #include <pcl_texlet/noise/effects/axial_quadratic.h>
+#include <pcl_texlet/noise/effects/covariate_intensity.h>
 #include <pcl_texlet/noise/effects/depth_distortion.h>
 #include <pcl_texlet/noise/effects/disparity_quantization.h>
 #include <pcl_texlet/noise/effects/incidence_angle.h>
@@ -121,8 +122,11 @@ effectTermsCompileCheck (const double *grid, double *out)
   const double factor = fx::Radial::varianceFactor (p1, fx::Radial::TermSettings (), ctx) *
                         fx::IncidenceAngle::varianceFactor (p1, none, ctx) *
                         fx::Interference::varianceFactor (p1, none, ctx);
+  const double knots[4] = {1.0, 0.5, 0.25, 0.1};
+  ctx.intensity = 0.4;
+  const double grey_factor = fx::CovariateIntensity::varianceFactor (knots, none, ctx);
   const double column = fx::VerticalStripes::columnVariance (p2, none, ctx) + fx::VerticalStripes::frameVariance (p2, none, ctx);
-  var *= factor;
+  var *= factor * grey_factor;
   const double step[1] = {0.125};
   const fx::DisparityQuantization::TermSettings lattice;
   fx::DisparityQuantization::transformMoments (step, lattice, ctx, bias, var);

@@ -1,16 +1,18 @@
 /*
  * pcl_texlet: an organised pcl::PointCloud as the points of a frame of the texlet stages
  * (kernels/texlet_stages.h, kernels/pixel_disc.h): size, points by pixel and by index, which
- * have a depth reading, and colour where the point type has one.
+ * have a depth reading, and colour (and its grey level) where the point type has one.
  */
 #pragma once
 
 #include <pcl_texlet/camera/valid_point.h>
+#include <pcl_texlet/noise/pixel_context.h>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h> // pcl::traits::has_color_v
 
 #include <cstddef>
+#include <limits>
 
 namespace pcl
 {
@@ -56,6 +58,16 @@ public:
       g += p.g;
       b += p.b;
     }
+  }
+
+  /** \brief Grey level of point \a p (greyLevel), NaN for a point type without colour. */
+  static double
+  intensity ([[maybe_unused]] const PointT &p)
+  {
+    if constexpr (pcl::traits::has_color_v<PointT>)
+      return greyLevel (p.r, p.g, p.b);
+    else
+      return std::numeric_limits<double>::quiet_NaN ();
   }
 
 private:

@@ -183,7 +183,8 @@ enum LabNeeds : unsigned
   /** \brief Two or more frames of a pixel: the effect adds variance only, which one frame of a
     * pixel cannot tell from an unmodelled bias.
     */
-  kNeedsRepeatedFrames = 16u
+  kNeedsRepeatedFrames = 16u,
+  kNeedsIntensity = 32u ///< colour frames (rgb/*.png): each pixel's grey level
 };
 
 /** \brief One pixel as the simulator's generative hooks see it (the static maps' phase). */

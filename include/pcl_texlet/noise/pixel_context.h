@@ -32,9 +32,20 @@ struct PixelContext
   double true_depth_mm = std::numeric_limits<double>::quiet_NaN (); ///< noise-free depth where known (the lab); NaN: unknown
   double edge_distance_px = std::numeric_limits<double>::infinity (); ///< distance to the nearest depth edge, pixels
   double image_width_px = std::numeric_limits<double>::quiet_NaN ();  ///< the image's width, pixels; NaN: unknown
+  /// grey level of the surface in the colour image, 0 (black) to 1 (white); NaN: unknown
+  double intensity = std::numeric_limits<double>::quiet_NaN ();
   /// focal length (px) times baseline (m): disparity = fb / z; by default a Kinect v1 at VGA
   double fb_px_m = kernels::focalBaseline (580.0, 0.075);
 };
+
+/** \brief Grey level, 0 (black) to 1 (white), of an 8-bit colour (ITU-R BT.601 luma): what
+  * PixelContext::intensity holds, from a recording's colour frames or a cloud's points.
+  */
+PCL_TEXLET_HD double
+greyLevel (double r, double g, double b)
+{
+  return (0.299 * r + 0.587 * g + 0.114 * b) / 255.0;
+}
 
 /** \brief Makes the PixelContext of each pixel of one camera.
   *

@@ -41,14 +41,27 @@ PCL_EXPORTS void
 computeTexletKernel (const kernels::Neighbourhood<double> &nb, const kernels::TexletSettings<double> &settings,
                      std::uint32_t texlet, unsigned char *mask, double *work, kernels::TexletResult<double> &out);
 
-/** \brief Depth SD in metres of a point at pixel (u, v) and depth z (metres); the covariates
-  * a frame does not carry (frame index, f b, projectors) come from \a base.
+/** \brief The noise model's context of a point at pixel (u, v), depth z (metres) and grey
+  * level \a intensity (NaN: unknown); the covariates a frame does not carry (frame index, f b,
+  * projectors) come from \a base.
+  */
+inline PixelContext
+pointContext (const CameraModel &camera, int u, int v, double z, double intensity, const PixelContext &base)
+{
+  PixelContext ctx = PixelContextBuilder (base).at (u, v, camera.principalPointDistance (u, v), z * 1000.0);
+  ctx.intensity = intensity;
+  return ctx;
+}
+
+/** \brief Depth SD in metres of a point at pixel (u, v), depth z (metres) and grey level
+  * \a intensity (NaN: unknown); the other covariates as pointContext.
   */
 inline double
 depthSigmaMetres (const NoiseModel &noise, const CameraModel &camera, int u, int v, double z,
-                  const PixelContext &base = PixelContext ())
+                  const PixelContext &base = PixelContext (),
+                  double intensity = std::numeric_limits<double>::quiet_NaN ())
 {
-  return noise.sigmaMm (PixelContextBuilder (base).at (u, v, camera.principalPointDistance (u, v), z * 1000.0)) * 1e-3;
+  return noise.sigmaMm (pointContext (camera, u, v, z, intensity, base)) * 1e-3;
 }
 
 /** \brief An organised cloud with its depth noise as a frame of the texlet stages
@@ -99,7 +112,7 @@ public:
                                   : camera_.principalPointDistance (u, v);
       return kernels::polynomialSigmaMm (polynomial_, r, z * 1000.0, noise_.minSigmaMm ()) * 1e-3;
     }
-    return depthSigmaMetres (noise_, camera_, u, v, z, context_);
+    return depthSigmaMetres (noise_, camera_, u, v, z, context_, this->intensity (this->point (u, v)));
   }
 
   /** The model at a texlet's centre pixel (u, v) and depth z (metres), from one evaluation: its
@@ -117,7 +130,7 @@ public:
       s.sigma = modelSigma (u, v, z);
       return s;
     }
-    PixelContext ctx = PixelContextBuilder (context_).at (u, v, camera_.principalPointDistance (u, v), z * 1000.0);
+    PixelContext ctx = pointContext (camera_, u, v, z, this->intensity (this->point (u, v)), context_);
     ctx.image_width_px = this->width ();
     const NoiseMoments m = noise_.moments (ctx);
     s.sigma = m.sigma_mm * 1e-3;
@@ -148,6 +161,7 @@ public:
     ctx.v = cv;
     ctx.radius_px = camera_.principalPointDistance (cu, cv);
     ctx.depth_mm = r.P.z * 1000.0;
+    ctx.intensity = this->intensity (this->point (cu, cv));
     const double frontal = noise_.sigmaMm (ctx);
     ctx.cos_incidence = std::min (1.0, std::fabs (r.N.x * rx + r.N.y * ry + r.N.z * rz) / (rn * nn));
     const double oblique = noise_.sigmaMm (ctx);
@@ -500,7 +514,8 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
           {
             const PointInT &p = cloud (u, v);
             row[u] = texlet::isValidDepthPoint (p)
-                         ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z, noise_context_)
+                         ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z, noise_context_,
+                                                             texlet::detail::CloudPoints<PointInT>::intensity (p))
                          : std::numeric_limits<double>::quiet_NaN ();
           }
       }
