@@ -219,6 +219,8 @@ covariateCurve (const ModelLab &lab, const std::vector<PixelComparison> &cmp, co
       if (recs[r]->used[i] && std::isfinite (cmp[r].sd_pred[i]))
       {
         const double v = value (lab, r, i);
+        if (!std::isfinite (v)) // a covariate the recording does not have (no colour frames)
+          continue;
         lo = std::min (lo, v);
         hi = std::max (hi, v);
       }
@@ -232,6 +234,8 @@ covariateCurve (const ModelLab &lab, const std::vector<PixelComparison> &cmp, co
       if (!recs[r]->used[i] || !std::isfinite (cmp[r].sd_pred[i]) || !(cmp[r].sd_pred[i] > 0))
         continue;
       const double v = value (lab, r, i);
+      if (!std::isfinite (v))
+        continue;
       int b = discrete ? static_cast<int> (v - lo + 0.5) : static_cast<int> (nb * (v - lo) / (hi - lo + 1e-12));
       b = std::max (0, std::min (nb - 1, b));
       const double ratio = recs[r]->sd_mm[i] / cmp[r].sd_pred[i];
@@ -275,6 +279,11 @@ double covEdge (const ModelLab &l, std::size_t r, std::size_t i)
   return std::min (40.0f, l.recordings ()[r]->edge_distance_px[i]);
 }
 double covProjectors (const ModelLab &l, std::size_t r, std::size_t) { return l.recordings ()[r]->active_projectors; }
+double covIntensity (const ModelLab &l, std::size_t r, std::size_t i)
+{
+  const auto &grey = l.recordings ()[r]->intensity;
+  return grey.empty () ? std::numeric_limits<double>::quiet_NaN () : double (grey[i]);
+}
 
 struct Region
 {
@@ -628,10 +637,14 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     double (*f) (const ModelLab &, std::size_t, std::size_t);
     bool discrete;
   };
-  const Cov covs[] = {{"radius", "px", covRadius, false},       {"depth", "mm", covDepth, false},
-                      {"incidence angle", "deg", covIncidence, false}, {"column", "px", covColumn, false},
-                      {"row", "px", covRow, false},             {"sub-step phase", "1", covPhase, false},
-                      {"edge distance", "px (40 = none)", covEdge, false}, {"active projectors", "1", covProjectors, true}};
+  std::vector<Cov> covs = {{"radius", "px", covRadius, false},       {"depth", "mm", covDepth, false},
+                           {"incidence angle", "deg", covIncidence, false}, {"column", "px", covColumn, false},
+                           {"row", "px", covRow, false},             {"sub-step phase", "1", covPhase, false},
+                           {"edge distance", "px (40 = none)", covEdge, false}, {"active projectors", "1", covProjectors, true}};
+  // Recordings with colour frames: the grey level too, a tenth panel.
+  if (std::any_of (recs.begin (), recs.end (), [] (const auto &r) { return !r->intensity.empty (); }))
+    covs.push_back ({"grey level", "0-255", covIntensity, false});
+  const int cov_rows = covs.size () > 8 ? 4 : 3;
   std::vector<Region> worst_covariates;
   for (int which = 0; which < 2; ++which)
   {
@@ -639,8 +652,8 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     AtomicFile png (folder + "/" + name);
     const std::string &out = png.temporaryPath ();
     std::ofstream g (work + "/cov" + std::to_string (which) + ".gp");
-    g << "set terminal pngcairo size 1200,820 font 'Sans,9'\nset output '" << out << "'\n"
-      << "set multiplot layout 3,3 title '"
+    g << "set terminal pngcairo size 1200," << 820 * cov_rows / 3 << " font 'Sans,9'\nset output '" << out << "'\n"
+      << "set multiplot layout " << cov_rows << ",3 title '"
       << (which ? "Mean bias residual (mean - predicted, mm) against each covariate, +- 1 standard error"
                 : "Measured SD / predicted SD against each covariate, +- 1 standard error")
       << "'\nset grid\nset key top left font ',8'\n";
@@ -688,7 +701,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
         << (s.steps.empty () ? "" : "'" + file + "' index 1 using 1:2:3 with yerrorlines pt 5 ps 0.5 title 'final', ")
         << (which ? "0" : "1") << " with lines lc 'black' dt 2 notitle\n";
     }
-    // The ninth panel: the per-frame offset (drift), measured and predicted, averaged over recordings.
+    // The last panel: the per-frame offset (drift), measured and predicted, averaged over recordings.
     {
       const std::string file = work + "/frames" + std::to_string (which) + ".dat";
       std::ofstream d (file);
