@@ -75,6 +75,62 @@ neesOnRange (const Eigen::Matrix3d &c, const Eigen::Vector3d &x, int &rank)
   return nees;
 }
 
+/** The texlets of \a used_frames evenly spaced frames of \a rec, from PointT clouds (with the
+  * recording's grey level when PointT has colour). The default hexagonal grid depends only on the
+  * image size, so texlet k is the same centre pixel in every frame. */
+template <typename PointT>
+std::vector<pcl::PointCloud<pcl::Texlet>>
+frameTexlets (const RecordingMeasurement &rec, const NoiseModel &model, const TexletConsistencySettings &settings,
+              int used_frames)
+{
+  pcl::TexletEstimation<PointT, pcl::Texlet> estimation;
+  estimation.setNoiseModel (model);
+  estimation.setUncertaintyMethod (settings.uncertainty);
+  estimation.setRadius (settings.radius_px);
+  estimation.setNumberOfThreads (settings.threads);
+  estimation.setRansacThreshold (settings.ransac_threshold_m);
+  estimation.setCentreDefinition (settings.centre);
+  CameraInfo info = rec.camera;
+  info.width = rec.width;
+  info.height = rec.height;
+  estimation.setCameraModel (std::make_shared<PinholeModel> (PinholeModel::fromCameraInfo (info)));
+  estimation.setSpacing (settings.spacing_px > 0 ? settings.spacing_px : std::max (2, rec.width / 32));
+  // What the recording knows beyond its frames: f b (disparity-defined terms at this
+  // resolution) and the active projectors; the frame index is set per frame below.
+  PixelContext context = rec.noiseContexts ().shared ();
+
+  std::vector<pcl::PointCloud<pcl::Texlet>> texlets (used_frames);
+  DepthFrame frame;
+  frame.width = rec.width;
+  frame.height = rec.height;
+  const std::size_t n_px = static_cast<std::size_t> (rec.width) * rec.height;
+  for (const float grey : rec.intensity)
+    frame.rgb.insert (frame.rgb.end (), 3, static_cast<std::uint8_t> (std::lround (std::min (255.0f, std::max (0.0f, grey)))));
+  auto cloud = std::make_shared<pcl::PointCloud<PointT>> ();
+  for (int f = 0; f < used_frames; ++f)
+  {
+    const int t = used_frames > 1 ? static_cast<int> (std::lround (static_cast<double> (f) * (rec.frames - 1) /
+                                                                   (used_frames - 1)))
+                                  : 0;
+    frame.name = rec.name + " frame " + std::to_string (t);
+    frame.depth_mm.assign (rec.depth_mm.begin () + static_cast<std::ptrdiff_t> (t * n_px),
+                           rec.depth_mm.begin () + static_cast<std::ptrdiff_t> ((t + 1) * n_px));
+    depthToCloud (frame, *estimation.getCameraModel (), *cloud);
+    context.frame = t;
+    estimation.setNoiseContext (context);
+    estimation.setInputCloud (cloud);
+    try
+    {
+      estimation.compute (texlets[f]);
+    }
+    catch (const pcl::ComputeFailedException &)
+    {
+      texlets[f].clear (); // a frame without a valid point: no texlet
+    }
+  }
+  return texlets;
+}
+
 } // namespace
 
 TexletConsistency
@@ -92,62 +148,18 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
   TexletConsistency out;
   // Per pair: NEES of P over its chi-square median, NEES of N, and (n - 1) / n.
   std::vector<double> all_p, all_n, shrink;
-  // Colour points: a term of the grey level (covariate:intensity) sees the recording's.
-  pcl::TexletEstimation<pcl::PointXYZRGBA, pcl::Texlet> estimation;
-  estimation.setNoiseModel (model);
-  estimation.setUncertaintyMethod (settings.uncertainty);
-  estimation.setRadius (settings.radius_px);
-  estimation.setNumberOfThreads (settings.threads);
-  estimation.setRansacThreshold (settings.ransac_threshold_m);
-  estimation.setCentreDefinition (settings.centre);
   for (const auto &rec : recordings)
   {
     if (!rec)
       throw pcl::BadArgumentException ("texletConsistency: null recording");
     if (rec->frames < settings.min_frames)
       continue;
-    CameraInfo info = rec->camera;
-    info.width = rec->width;
-    info.height = rec->height;
-    estimation.setCameraModel (std::make_shared<PinholeModel> (PinholeModel::fromCameraInfo (info)));
-    estimation.setSpacing (settings.spacing_px > 0 ? settings.spacing_px : std::max (2, rec->width / 32));
-    // What the recording knows beyond its frames: f b (disparity-defined terms at this
-    // resolution) and the active projectors; the frame index is set per frame below.
-    PixelContext context = rec->noiseContexts ().shared ();
-
-    // Evenly spaced frames; the default hexagonal grid depends only on the image size, so
-    // texlet k is the same centre pixel in every frame.
     const int used_frames = std::min (settings.max_frames, rec->frames);
-    std::vector<pcl::PointCloud<pcl::Texlet>> texlets (used_frames);
-    DepthFrame frame;
-    frame.width = rec->width;
-    frame.height = rec->height;
-    const std::size_t n_px = static_cast<std::size_t> (rec->width) * rec->height;
-    frame.rgb.clear ();
-    for (const float grey : rec->intensity)
-      frame.rgb.insert (frame.rgb.end (), 3, static_cast<std::uint8_t> (std::lround (std::min (255.0f, std::max (0.0f, grey)))));
-    auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
-    for (int f = 0; f < used_frames; ++f)
-    {
-      const int t = used_frames > 1 ? static_cast<int> (std::lround (static_cast<double> (f) * (rec->frames - 1) /
-                                                                     (used_frames - 1)))
-                                    : 0;
-      frame.name = rec->name + " frame " + std::to_string (t);
-      frame.depth_mm.assign (rec->depth_mm.begin () + static_cast<std::ptrdiff_t> (t * n_px),
-                             rec->depth_mm.begin () + static_cast<std::ptrdiff_t> ((t + 1) * n_px));
-      depthToCloud (frame, *estimation.getCameraModel (), *cloud);
-      context.frame = t;
-      estimation.setNoiseContext (context);
-      estimation.setInputCloud (cloud);
-      try
-      {
-        estimation.compute (texlets[f]);
-      }
-      catch (const pcl::ComputeFailedException &)
-      {
-        texlets[f].clear (); // a frame without a valid point: no texlet
-      }
-    }
+    // Colour points where the recording has colour frames, so that a term of the grey level
+    // (covariate:intensity) sees it; points without colour have no grey level.
+    const std::vector<pcl::PointCloud<pcl::Texlet>> texlets =
+        rec->intensity.empty () ? frameTexlets<pcl::PointXYZ> (*rec, model, settings, used_frames)
+                                : frameTexlets<pcl::PointXYZRGBA> (*rec, model, settings, used_frames);
     out.frames += used_frames;
 
     std::size_t centres = 0;
