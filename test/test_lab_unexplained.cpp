@@ -147,10 +147,13 @@ TEST (DataDrivenTerms, IntensityTermNeedsColourFrames)
   with.add (*term);
   const double without = lab.evaluate (NoiseModel::paper ()).sd_rmse_mm;
   EXPECT_NEAR (lab.evaluate (with).sd_rmse_mm, without, 1e-9 * without); // the fits' threads sum in any order
+  int listed = 0;
   for (const auto &c : lab.rankCandidates (NoiseModel::paper ()))
     if (c.effect == "covariate:intensity")
     {
+      ++listed;
       EXPECT_FALSE (c.applicable);
       EXPECT_NE (c.note.find ("colour"), std::string::npos) << c.note;
     }
+  EXPECT_EQ (listed, 1) << "covariate:intensity is a candidate, not applicable";
 }
