@@ -387,6 +387,19 @@ measuredDepths (const RecordingModel &rm, std::vector<float> &y)
     }
 }
 
+/** The expected variance about their mean of \a n terms of a unit-variance AR(1) sequence whose
+  * neighbours correlate \a a: 1 minus the variance of the mean.
+  */
+double
+ar1VarianceAboutMean (double a, std::size_t n)
+{
+  if (n < 2 || a >= 1.0)
+    return 0.0;
+  const double N = static_cast<double> (n);
+  const double var_mean = ((1 + a) / (1 - a) - 2 * a * (1 - std::pow (a, N)) / (N * (1 - a) * (1 - a))) / N;
+  return 1.0 - var_mean;
+}
+
 /** A replica: the model's mean plus its noise (independent, column, frame parts) on the
   * recording's valid samples, rounded to whole millimetres as the recording is. */
 void
@@ -399,11 +412,22 @@ replicaDepths (const RecordingModel &rm, std::mt19937_64 &rng, std::vector<float
   y.assign (n * m.frames, kNaNf);
   std::vector<float> col (W);
   const float a = static_cast<float> (rm.a), b = static_cast<float> (std::sqrt (std::max (0.0, 1.0 - rm.a * rm.a)));
+  // The column offsets about the frame's offset (drawn apart as F): an AR(1) sequence less its
+  // mean, scaled to unit expected variance about that mean.
+  const double within = ar1VarianceAboutMean (rm.a, static_cast<std::size_t> (W));
+  const float scale = within > 1e-9 ? static_cast<float> (1.0 / std::sqrt (within)) : 0.0f;
   for (int t = 0; t < m.frames; ++t)
   {
     const float F = normal (rng);
+    double sum = 0;
     for (int u = 0; u < W; ++u)
+    {
       col[u] = u == 0 ? normal (rng) : a * col[u - 1] + b * normal (rng);
+      sum += col[u];
+    }
+    const float centre = static_cast<float> (sum / W);
+    for (float &c : col)
+      c = (c - centre) * scale;
     for (std::size_t i = 0; i < n; ++i)
       if (m.at (t, i) > 0 && std::isfinite (rm.sd[i]))
         y[t * n + i] = std::round (rm.mean[i] + rm.own[i] * normal (rng) + rm.column[i] * col[i % W] + rm.frame[i] * F);
@@ -489,8 +513,7 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
     {
       if (!std::isfinite (rm.sd[i]))
         continue;
-      PixelContext ctx = lab.context (r, i);
-      ctx.image_width_px = m.width;
+      const PixelContext ctx = lab.context (r, i);
       const NoiseMoments mo = model.moments (ctx);
       const double sd2 = double (rm.sd[i]) * rm.sd[i];
       const double frame2 = std::min (mo.frame_variance_mm2, mo.column_variance_mm2);

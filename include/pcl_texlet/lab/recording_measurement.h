@@ -86,13 +86,13 @@ struct RecordingMeasurement
   double fb () const { return camera.fb (); }
 
   /** \brief The noise model's contexts of this recording's pixels: its principal point, f b
-    * and active projectors.
+    * active projectors and image size.
     */
   PixelContextBuilder
   noiseContexts () const
   {
     PixelContextBuilder b (camera.cx (), camera.cy (), fb ());
-    b.setActiveProjectors (active_projectors);
+    b.setActiveProjectors (active_projectors).setImageSize (width, height);
     return b;
   }
   /** \brief Distance of pixel (u, v) from the principal point, px. */

@@ -32,6 +32,7 @@ struct PixelContext
   double true_depth_mm = std::numeric_limits<double>::quiet_NaN (); ///< noise-free depth where known (the lab); NaN: unknown
   double edge_distance_px = std::numeric_limits<double>::infinity (); ///< distance to the nearest depth edge, pixels
   double image_width_px = std::numeric_limits<double>::quiet_NaN ();  ///< the image's width, pixels; NaN: unknown
+  double image_height_px = std::numeric_limits<double>::quiet_NaN (); ///< the image's height, pixels; NaN: unknown
   /// grey level of the surface in the colour image, 0 (black) to 1 (white); NaN: unknown
   double intensity = std::numeric_limits<double>::quiet_NaN ();
   /// focal length (px) times baseline (m): disparity = fb / z; by default a Kinect v1 at VGA
@@ -72,6 +73,15 @@ public:
   setActiveProjectors (double projectors)
   {
     shared_.active_projectors = projectors;
+    return *this;
+  }
+
+  /** \brief The image's size, pixels (the scale of terms whose offsets are shared by bands). */
+  PixelContextBuilder &
+  setImageSize (double width_px, double height_px)
+  {
+    shared_.image_width_px = width_px;
+    shared_.image_height_px = height_px;
     return *this;
   }
 
