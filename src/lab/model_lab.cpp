@@ -33,14 +33,40 @@ using namespace detail;
 namespace
 {
 
+const int kSpatialRadius = 3; // a 7 x 7 window: a few pixels, far below the scale of a smooth bias (a map's cells)
+
+/** The share of a column offset's variance (offsets whose correlation falls by e over
+  * \a length_px columns) that a pixel's difference from the mean of its 48 neighbours in the
+  * window keeps, scaled as spatialSd () scales it: 0 where every column shares the offset.
+  */
+double
+windowShare (double length_px)
+{
+  if (!(length_px > 0) || !std::isfinite (length_px))
+    return 0.0;
+  const int R = kSpatialRadius, side = 2 * R + 1, others = side * side - 1;
+  const auto rho = [&] (int d) { return std::exp (-std::abs (d) / length_px); };
+  const auto count = [&] (int d) { return d == 0 ? side - 1 : side; };
+  double one = 0, two = 0;
+  for (int d = -R; d <= R; ++d)
+  {
+    one += count (d) * rho (d);
+    for (int e = -R; e <= R; ++e)
+      two += count (d) * count (e) * rho (d - e);
+  }
+  one /= others;
+  two /= double (others) * others;
+  return (1.0 - 2.0 * one + two) * others / (others + 1.0);
+}
+
 /** LabMetrics::bias_spatial_sd_mm and its prediction, from the pixels' residuals \a e and the
-  * predicted variances of their means \a mean_var (one per PixelRow of \a d).
+  * predicted variances of their means' local differences \a mean_var (one per PixelRow of \a d).
   */
 void
 spatialSd (const ModelLab::Data &d, const std::vector<RecordingMeasurement::ConstPtr> &recs,
            const std::vector<float> &e, const std::vector<float> &mean_var, double &measured, double &predicted)
 {
-  const int R = 3; // a 7 x 7 window: a few pixels, far below the scale of a smooth bias (a map's cells)
+  const int R = kSpatialRadius;
   const int min_neighbours = 4;
   std::vector<std::vector<int>> row_at (recs.size ());
   for (std::size_t r = 0; r < recs.size (); ++r)
@@ -227,7 +253,9 @@ ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels)
     }
     const double V = var + col;
     residual[k] = static_cast<float> (e);
-    mean_var[k] = static_cast<float> (V / p.n);
+    // Offsets shared over the window cancel in a local difference; a frame's cancel wholly.
+    const double within_frame = std::max (0.0, mo.column_variance_mm2 - mo.frame_variance_mm2);
+    mean_var[k] = static_cast<float> ((var + within_frame * windowShare (mo.column_correlation_px)) / p.n);
     lp += 0.5 * (p.n - 1) * std::log (kTwoPi * var) + p.ss_within / (2 * var);
     lp += 0.5 * std::log (kTwoPi * V / p.n) + p.n * e * e / (2 * V);
     const double sigma = std::sqrt (V);

@@ -72,7 +72,8 @@ struct LabMetrics
     */
   double bias_spatial_sd_mm = 0;
   /** \brief The model's prediction of bias_spatial_sd_mm: the RMS over the same pixels of the
-    * predicted SD of a pixel's mean, sqrt (variance / n).
+    * predicted SD of a pixel's mean, sqrt (variance / n), counting of the column offsets only
+    * the part that does not cancel against the neighbours' (none of a frame's offset).
     */
   double bias_spatial_sd_pred_mm = 0;
   double nll = 0;           ///< Gaussian NLL per depth sample (see the file comment)
