@@ -550,7 +550,7 @@ TEST (PcaSampler, ColumnCorrelatedNoiseAgreesAcrossTheThreePropagations)
   {
     Patch patch (rng, 0.8, 0.0, 1.5e-3);
     patch.nb.shared_fraction = 0.8;
-    patch.nb.column_correlation = std::exp (-1.0 / length);
+    patch.nb.line_correlation = std::exp (-1.0 / length);
     std::vector<unsigned char> mask (patch.nb.count, 1);
     double worst_p, worst_n, cov_n[3];
     compareSamplers (patch, mask.data (), samples, 710u, 0.0, worst_p, worst_n, cov_n);
@@ -561,7 +561,7 @@ TEST (PcaSampler, ColumnCorrelatedNoiseAgreesAcrossTheThreePropagations)
     double an_p[6], an_n[3], whole_p[6], whole_n[3], own_p[6], own_n[3];
     analyticCovariance (patch.nb, mask.data (), ring_use, pcl::texlet::PlaneFitMethod::PCA, m.fit, m.centre, an_p,
                         an_n);
-    patch.nb.column_correlation = 1.0;
+    patch.nb.line_correlation = 1.0;
     analyticCovariance (patch.nb, mask.data (), ring_use, pcl::texlet::PlaneFitMethod::PCA, m.fit, m.centre, whole_p,
                         whole_n);
     patch.nb.shared_fraction = 0.0;

@@ -8,7 +8,8 @@
  * the paper's model describes, both propagations must be honest to 30 %; the paper's own
  * definition of P (the inliers' mean) must not be, as it moves with the inlier set. On walls
  * with column stripes (both generators), with the model the lab fits to them, Sigma_P holds the
- * offsets the disc's columns share to 50 %.
+ * offsets the disc's columns share to 50 %, and on walls with row bands (the generator) with the
+ * data-driven term `rows`, those its rows share.
  */
 #include "support/generated_walls.h"
 #include "support/simulated_walls.h"
@@ -79,22 +80,24 @@ TEST (TexletCovariances, HonestAtDefaultSettingsOnGeneratedWalls)
 namespace
 {
 
-/** Texlet NEES on striped walls with the model the lab fits to them (the paper's plus
-  * vertical_stripes), whose column offsets the disc shares (Neighbourhood::shared_fraction).
+/** Texlet NEES on banded walls with the model the lab fits to them (the paper's plus \a term:
+  * vertical_stripes or rows), whose column (row) offsets the disc shares
+  * (Neighbourhood::shared_fraction).
   */
 void
-expectStripesInSigmaP (const std::vector<lab::RecordingMeasurement::ConstPtr> &recs, const std::string &what)
+expectBandsInSigmaP (const std::vector<lab::RecordingMeasurement::ConstPtr> &recs, const std::string &what,
+                     const std::string &term = "vertical_stripes")
 {
   lab::ModelLab lab;
   for (const auto &r : recs)
     lab.addRecording (r);
-  const NoiseModel model = lab.addEffect (NoiseModel::paper (), "vertical_stripes");
+  const NoiseModel model = lab.addEffect (NoiseModel::paper (), term);
   for (const UncertaintyMethod method : {UncertaintyMethod::Analytic, UncertaintyMethod::MonteCarlo})
   {
     lab::TexletConsistencySettings s;
     s.uncertainty = method;
     const lab::TexletConsistency c = lab::texletConsistency (recs, model, s);
-    std::cout << what << " + the lab's vertical_stripes, " << toString (method) << ": median NEES ratio P "
+    std::cout << what << " + the lab's " << term << ", " << toString (method) << ": median NEES ratio P "
               << c.medianRatioP () << " N " << c.medianRatioN () << ", mean NEES ratio P " << c.ratioP () << " N "
               << c.ratioN () << " (" << c.texlets << " centres)\n";
     ASSERT_GT (c.texlets, 3000) << what;
@@ -113,12 +116,19 @@ expectStripesInSigmaP (const std::vector<lab::RecordingMeasurement::ConstPtr> &r
 
 TEST (TexletCovariances, StripesReachSigmaPOnSimulatedWalls)
 {
-  expectStripesInSigmaP (pcl_texlet_test::simulatedWalls (walls (), {"vertical_stripes"}, 22, 30, 320, 2),
-                         "simulator walls with stripes");
+  expectBandsInSigmaP (pcl_texlet_test::simulatedWalls (walls (), {"vertical_stripes"}, 22, 30, 320, 2),
+                       "simulator walls with stripes");
 }
 
 TEST (TexletCovariances, StripesReachSigmaPOnGeneratedWalls)
 {
-  expectStripesInSigmaP (pcl_texlet_test::generatedWalls (walls (), {"vertical_stripes"}, 733, 30, 320),
-                         "generator walls with stripes");
+  expectBandsInSigmaP (pcl_texlet_test::generatedWalls (walls (), {"vertical_stripes"}, 733, 30, 320),
+                       "generator walls with stripes");
+}
+
+// The rows' counterpart: horizontal bands and the data-driven term `rows`, shared along rows.
+TEST (TexletCovariances, RowBandsReachSigmaPOnGeneratedWalls)
+{
+  expectBandsInSigmaP (pcl_texlet_test::generatedWalls (walls (), {"row_bands"}, 739, 30, 320),
+                       "generator walls with row bands", "rows");
 }

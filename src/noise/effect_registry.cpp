@@ -9,6 +9,7 @@
 #include <pcl_texlet/noise/effects/intrinsics.h>
 #include <pcl_texlet/noise/effects/lateral_noise.h>
 #include <pcl_texlet/noise/effects/radial.h>
+#include <pcl_texlet/noise/effects/row_bands.h>
 #include <pcl_texlet/noise/effects/temporal_drift.h>
 #include <pcl_texlet/noise/effects/vertical_stripes.h>
 
@@ -44,6 +45,7 @@ EffectRegistry::vocabulary ()
     r.add<effects::Intrinsics> ();
     // Terms built from the data, named by the structure they take off the residuals.
     r.add<effects::CovariateIntensity> ();
+    r.add<effects::RowBands> ();
     return r;
   }();
   return registry;

@@ -107,7 +107,7 @@ NoiseModel::moments (const PixelContext &ctx) const
     m.sigma_mm = std::nan ("");
     return m;
   }
-  double scaled = 0.0, unscaled = 0.0, factor = 1.0, column_rate = 0.0;
+  double scaled = 0.0, unscaled = 0.0, factor = 1.0, column_rate = 0.0, row_rate = 0.0;
   for (const auto &t : terms_)
   {
     if (t->scaledByFactors ())
@@ -119,15 +119,24 @@ NoiseModel::moments (const PixelContext &ctx) const
     m.column_variance_mm2 += column;
     if (column > 0.0)
       column_rate += column / t->columnCorrelationPx (ctx); // 0 for an infinite length
-    m.frame_variance_mm2 += t->frameVariance (ctx);
+    const double row = t->rowVariance (ctx);
+    m.row_variance_mm2 += row;
+    if (row > 0.0)
+      row_rate += row / t->rowCorrelationPx (ctx);
+    const double frame = t->frameVariance (ctx);
+    m.frame_variance_mm2 += frame;
+    if (row > 0.0)
+      m.row_frame_variance_mm2 += frame;
     m.bias_mm += t->bias (ctx);
   }
   m.variance_mm2 = scaled * factor + unscaled;
   if (column_rate > 0.0 && m.column_variance_mm2 > 0.0)
     m.column_correlation_px = m.column_variance_mm2 / column_rate;
+  if (row_rate > 0.0 && m.row_variance_mm2 > 0.0)
+    m.row_correlation_px = m.row_variance_mm2 / row_rate;
   for (const auto &t : terms_)
     t->transformMoments (ctx, m.bias_mm, m.variance_mm2);
-  const double s = std::sqrt (m.variance_mm2 + m.column_variance_mm2);
+  const double s = std::sqrt (m.variance_mm2 + m.column_variance_mm2 + m.row_variance_mm2);
   m.sigma_mm = s > min_sigma_mm_ ? s : min_sigma_mm_;
   return m;
 }

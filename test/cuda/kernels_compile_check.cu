@@ -19,6 +19,7 @@
 #include <pcl_texlet/noise/effects/intrinsics.h>
 #include <pcl_texlet/noise/effects/lateral_noise.h>
 #include <pcl_texlet/noise/effects/radial.h>
+#include <pcl_texlet/noise/effects/row_bands.h>
 #include <pcl_texlet/noise/effects/temporal_drift.h>
 #include <pcl_texlet/noise/effects/vertical_stripes.h>
 
@@ -125,7 +126,9 @@ effectTermsCompileCheck (const double *grid, double *out)
   const double knots[4] = {1.0, 0.5, 0.25, 0.1};
   ctx.intensity = 0.4;
   const double grey_factor = fx::CovariateIntensity::varianceFactor (knots, none, ctx);
-  const double column = fx::VerticalStripes::columnVariance (p2, none, ctx) + fx::VerticalStripes::frameVariance (p2, none, ctx);
+  ctx.image_height_px = 480;
+  const double column = fx::VerticalStripes::columnVariance (p2, none, ctx) + fx::VerticalStripes::frameVariance (p2, none, ctx) +
+                        fx::RowBands::rowVariance (p2, none, ctx) + fx::RowBands::rowCorrelationPx (p2, none, ctx);
   var *= factor * grey_factor;
   const double step[1] = {0.125};
   const fx::DisparityQuantization::TermSettings lattice;

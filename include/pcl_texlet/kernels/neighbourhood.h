@@ -35,35 +35,39 @@ struct Neighbourhood
     * has_centre_ray is false where neither the centre nor a symmetric pair around it has a reading. */
   Vec3<S> centre_ray = {S (0), S (0), S (1)};
   bool has_centre_ray = false;
-  /** The part of each point's depth variance shared with the other points (column bands, frame
-    * offsets): the depth noises of points i and j have covariance
-    * shared_fraction sigma_i sigma_j column_correlation^|u_i - u_j| (u: their columns), and
+  /** The part of each point's depth variance shared with the other points (column or row bands,
+    * frame offsets): the depth noises of points i and j have covariance
+    * shared_fraction sigma_i sigma_j line_correlation^|l_i - l_j| (l: their lines, line ()), and
     * (1 - shared_fraction) sigma_i^2 of each is its own. 0: independent noise. */
   S shared_fraction = S (0);
-  /** The correlation of the shared part between adjacent columns, in (0, 1]; 1: the whole patch
-    * shares it. Below 1 the columns come from pixel[k] % width. */
-  S column_correlation = S (1);
-  const int *pixel = nullptr; ///< the points' pixel indices (v * width + u), for their columns
+  /** The correlation of the shared part between adjacent lines, in (0, 1]; 1: the whole patch
+    * shares it. Below 1 the lines come from pixel[k] (line ()). */
+  S line_correlation = S (1);
+  const int *pixel = nullptr; ///< the points' pixel indices (v * width + u), for their lines
   int width = 0;              ///< the image's width, pixels
+  /** Whether the shared noise's lines are rows (horizontal bands) rather than columns; the disc
+    * is symmetric under u <-> v, so everything else is the same. */
+  bool lines_are_rows = false;
 
   PCL_TEXLET_HD Vec3<S>
   point (int i) const { return {x[i], y[i], z[i]}; }
 
-  /** \brief Point \a i's column. */
+  /** \brief Point \a i's line of shared noise: its column, or its row where lines_are_rows. */
   PCL_TEXLET_HD int
-  column (int i) const { return pixel[i] % width; }
+  line (int i) const { return lines_are_rows ? pixel[i] / width : pixel[i] % width; }
 };
 
 /** \brief The noise model at a texlet's centre pixel and its points' mean depth, from one
-  * evaluation: the depth SD, and the part of its variance the points share (the column variance
-  * over the whole) with its correlation length across columns.
+  * evaluation: the depth SD, and the part of its variance the points share (the column or row
+  * variance over the whole) with its correlation length across those lines.
   */
 struct CentreNoise
 {
   double sigma = 0.0;               ///< depth SD, metres
   double fraction = 0.0;            ///< Neighbourhood::shared_fraction
-  /** columns over which the correlation falls by e; infinite (as NoiseMoments'), or <= 0: no fall */
-  double column_correlation_px = std::numeric_limits<double>::infinity ();
+  /** lines over which the correlation falls by e; infinite (as NoiseMoments'), or <= 0: no fall */
+  double line_correlation_px = std::numeric_limits<double>::infinity ();
+  bool lines_are_rows = false;      ///< Neighbourhood::lines_are_rows
 };
 
 } // namespace kernels

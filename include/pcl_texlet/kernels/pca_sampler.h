@@ -205,7 +205,7 @@ addPcaModelPoints (const Neighbourhood<S> &nb, const unsigned char *mask, const 
   * points' own and cross terms; all uncorrelated, as under the per-point sampler. The linear
   * and quadratic shared parts must come from the same h0: for a shift of the whole patch along
   * the rays they cancel in the covariance of the moments. Where the shared noise falls off
-  * across columns, pcaColumnSampleMoments() takes one such normal per column instead.
+  * across columns, pcaLineSampleMoments() takes one such normal per column instead.
   */
 template <typename S> PCL_TEXLET_HD void
 preparePcaSampleModel (const PcaModelSums<S> &sums, int n, S rho, const PlaneFit<S> &fit, const Vec3<S> &n0,
@@ -296,17 +296,17 @@ pcaSampleMoments (const PcaSampleModel<S> &md, const V *z, V m[3], V c[6])
   * the points' w and A that its column normals e_x multiply, scaled for the moments.
   */
 template <typename S>
-struct PcaColumnSums
+struct PcaLineSums
 {
   int count = 0;
-  S w[kMaxSharedColumns][9]; ///< sqrt(rho) (1/n) sum over the column of w
-  S A[kMaxSharedColumns][6]; ///< rho (1/n) sum over the column of A = a a'
+  S w[kMaxSharedLines][9]; ///< sqrt(rho) (1/n) sum over the column of w
+  S A[kMaxSharedLines][6]; ///< rho (1/n) sum over the column of A = a a'
 };
 
 /** \brief The column sums of the inliers (\a mask) of \a nb over \a columns, \a n inliers. */
 template <typename S> PCL_TEXLET_HD void
-pcaColumnSums (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaModelBasis<S> &b,
-               const ColumnSpan &columns, int n, PcaColumnSums<S> &out)
+pcaLineSums (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaModelBasis<S> &b,
+               const LineSpan &columns, int n, PcaLineSums<S> &out)
 {
   const S rho = nb.shared_fraction, root = std::sqrt (rho) / S (n), scale = rho / S (n);
   out.count = columns.count;
@@ -321,7 +321,7 @@ pcaColumnSums (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaM
   {
     S q[3], a[3];
     pcaModelPoint (nb, mask, k, b.P0, b.axes, b.P0b, q, a);
-    S *w = out.w[nb.column (k) - columns.first], *A = out.A[nb.column (k) - columns.first];
+    S *w = out.w[nb.line (k) - columns.first], *A = out.A[nb.line (k) - columns.first];
     for (int i = 0; i < 3; ++i)
       w[i] += root * a[i];
     for (int i = 0, m = 0; i < 3; ++i)
@@ -337,7 +337,7 @@ pcaColumnSums (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaM
   * per-point sampler's SharedDraw::e law) in place of the whole patch's z[15].
   */
 template <typename S> PCL_TEXLET_HD void
-pcaColumnSampleMoments (const PcaSampleModel<S> &md, const PcaColumnSums<S> &cols, const S *z, const S *e, S m[3],
+pcaLineSampleMoments (const PcaSampleModel<S> &md, const PcaLineSums<S> &cols, const S *z, const S *e, S m[3],
                         S c[6])
 {
   S y[9], u[6];

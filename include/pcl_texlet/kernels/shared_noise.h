@@ -1,13 +1,15 @@
 /*
- * pcl_texlet kernels: depth noise that a texlet's points share, by column.
+ * pcl_texlet kernels: depth noise that a texlet's points share, by line (column or row).
  *
- * Column offsets (the stripes' bands) move whole columns of a frame. Two columns du apart share
- * them with correlation a^|du| (Neighbourhood::column_correlation = a; for bands cut at random
+ * Column offsets (the stripes' bands) move whole columns of a frame; row offsets (the `rows`
+ * term) whole rows: the code below says columns, and the disc's rows serve where
+ * Neighbourhood::lines_are_rows (line ()). Two columns du apart share
+ * them with correlation a^|du| (Neighbourhood::line_correlation = a; for bands cut at random
  * columns, the probability that no cut falls between them). The shared part of two points'
  * depth noise then has covariance rho sigma_i sigma_j a^|u_i - u_j|, and a propagation through
  * Jacobians J sums the SD-weighted Jacobians of each column, G_x, and takes the quadratic form
- * sum_x sum_x' a^|x - x'| G_x G_x' (columnForm()). With a = 1 that is (sum G)(sum G)': the
- * patch moves as a whole. Patches wider than kMaxSharedColumns share it whole.
+ * sum_x sum_x' a^|x - x'| G_x G_x' (lineForm()). With a = 1 that is (sum G)(sum G)': the
+ * patch moves as a whole. Patches wider than kMaxSharedLines share it whole.
  */
 #pragma once
 
@@ -25,34 +27,34 @@ namespace texlet
 namespace kernels
 {
 
-/** \brief Most columns over which the shared noise is resolved (a disc of radius 15 px). */
-constexpr int kMaxSharedColumns = 31;
+/** \brief Most lines (columns or rows) over which the shared noise is resolved (a disc of radius 15 px). */
+constexpr int kMaxSharedLines = 31;
 
-/** \brief The columns a patch's shared noise is resolved over: \a count from \a first; count 0
+/** \brief The lines a patch's shared noise is resolved over: \a count from \a first; count 0
   * where the patch shares it whole (adjacent columns correlate by 1, no columns known, or the
-  * patch is wider than kMaxSharedColumns).
+  * patch is wider than kMaxSharedLines).
   */
-struct ColumnSpan
+struct LineSpan
 {
   int first = 0;
   int count = 0;
 };
 
-template <typename S> PCL_TEXLET_HD ColumnSpan
-sharedColumns (const Neighbourhood<S> &nb)
+template <typename S> PCL_TEXLET_HD LineSpan
+sharedLines (const Neighbourhood<S> &nb)
 {
-  ColumnSpan span;
-  if (!(nb.shared_fraction > S (0)) || !(nb.column_correlation < S (1)) || !nb.pixel || nb.width <= 0 ||
+  LineSpan span;
+  if (!(nb.shared_fraction > S (0)) || !(nb.line_correlation < S (1)) || !nb.pixel || nb.width <= 0 ||
       nb.count == 0)
     return span;
-  int lo = nb.column (0), hi = lo;
+  int lo = nb.line (0), hi = lo;
   for (int k = 1; k < nb.count; ++k)
   {
-    const int c = nb.column (k);
+    const int c = nb.line (k);
     lo = c < lo ? c : lo;
     hi = c > hi ? c : hi;
   }
-  if (hi - lo + 1 <= kMaxSharedColumns)
+  if (hi - lo + 1 <= kMaxSharedLines)
   {
     span.first = lo;
     span.count = hi - lo + 1;
@@ -64,9 +66,9 @@ sharedColumns (const Neighbourhood<S> &nb)
   * (dim values each), packed (upper triangle by rows) into \a out.
   */
 template <typename S, int dim> PCL_TEXLET_HD void
-columnForm (const S (*G)[dim], int count, S a, S *out)
+lineForm (const S (*G)[dim], int count, S a, S *out)
 {
-  S power[kMaxSharedColumns];
+  S power[kMaxSharedLines];
   power[0] = S (1);
   for (int d = 1; d < count; ++d)
     power[d] = power[d - 1] * a;
@@ -102,8 +104,8 @@ template <typename S>
 struct SharedDraw
 {
   S own = S (1), root = S (0);
-  ColumnSpan span;
-  S e[kMaxSharedColumns];
+  LineSpan span;
+  S e[kMaxSharedLines];
 
   /** \param whole the points' columns are not known (the ring of normal averaging): one e */
   PCL_TEXLET_HD
@@ -115,9 +117,9 @@ struct SharedDraw
     own = std::sqrt (S (1) - nb.shared_fraction);
     root = std::sqrt (nb.shared_fraction);
     if (!whole)
-      span = sharedColumns (nb);
+      span = sharedLines (nb);
     const int n = span.count > 0 ? span.count : 1;
-    const S a = span.count > 0 ? nb.column_correlation : S (1), b = std::sqrt (S (1) - a * a);
+    const S a = span.count > 0 ? nb.line_correlation : S (1), b = std::sqrt (S (1) - a * a);
     float g[4];
     for (int x = 0; x < n; ++x)
     {
@@ -132,7 +134,7 @@ struct SharedDraw
   PCL_TEXLET_HD S
   noise (float g, const Neighbourhood<S> &nb, int k) const
   {
-    return own * S (g) + root * e[span.count > 0 ? nb.column (k) - span.first : 0];
+    return own * S (g) + root * e[span.count > 0 ? nb.line (k) - span.first : 0];
   }
 };
 

@@ -188,7 +188,7 @@ ransacThreshold (const FrameSettings<S> &fs, const CentreNoise &noise, const Nei
     const double unshared = 1.0 - rho;
     // Over 2R + 1 columns, offsets correlated by a^|du| are a random walk of step variance
     // 2 (1 - a) rho; less the straight line a plane absorbs, (2R + 1) / 15 of that is left.
-    const double decorrelated = rho * 2.0 * (1.0 - static_cast<double> (nb.column_correlation)) *
+    const double decorrelated = rho * 2.0 * (1.0 - static_cast<double> (nb.line_correlation)) *
                                 (2.0 * fs.disc.radius + 1.0) / 15.0;
     own = std::sqrt (unshared > decorrelated ? unshared : decorrelated);
   }
@@ -197,17 +197,18 @@ ransacThreshold (const FrameSettings<S> &fs, const CentreNoise &noise, const Nei
 }
 
 /** \brief The noise the points of a disc share (\a s: the frame's centreNoise ()) into \a nb:
-  * shared_fraction within [0, 1], and the correlation of adjacent columns with the points' pixel
-  * indices \a pixel in a frame of \a width.
+  * shared_fraction within [0, 1], and the correlation of adjacent lines (columns, or rows) with
+  * the points' pixel indices \a pixel in a frame of \a width.
   */
 template <typename S> PCL_TEXLET_HD void
 discSharedNoise (const CentreNoise &s, const int *pixel, int width, Neighbourhood<S> &nb)
 {
   nb.shared_fraction = static_cast<S> (s.fraction > 0.0 ? (s.fraction < 1.0 ? s.fraction : 1.0) : 0.0);
-  const double L = s.column_correlation_px;
-  nb.column_correlation = static_cast<S> (L > 0.0 && L < 1e30 ? std::exp (-1.0 / L) : 1.0);
+  const double L = s.line_correlation_px;
+  nb.line_correlation = static_cast<S> (L > 0.0 && L < 1e30 ? std::exp (-1.0 / L) : 1.0);
   nb.pixel = pixel;
   nb.width = width;
+  nb.lines_are_rows = s.lines_are_rows;
 }
 
 /** \brief The inliers' mean colour as PCL's rgba word (alpha 255), 0 for a frame without colour. */

@@ -73,7 +73,7 @@ analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k
 
 /** \brief Adds the shared part \a rho of the noise to covariances of independent noise:
   * (1 - rho) times those (\a c, packed \a dim x \a dim) plus rho times the block of rows
-  * \a first .. first + dim - 1 of \a form (packed 6 x 6: the SD-weighted Jacobians' columnForm()),
+  * \a first .. first + dim - 1 of \a form (packed 6 x 6: the SD-weighted Jacobians' lineForm()),
   * scaled by \a scale.
   */
 template <typename S, int dim> PCL_TEXLET_HD void
@@ -116,15 +116,15 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   }
   const S rho = nb.shared_fraction;
   S form[21]; // the shared part's quadratic form of the SD-weighted Jacobians (r, j1, j2, a)
-  const ColumnSpan columns = sharedColumns (nb);
+  const LineSpan columns = sharedLines (nb);
   if (columns.count > 0) // the shared part by column (shared_noise.h)
   {
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
-    S G[kMaxSharedColumns][6] = {};
+    S G[kMaxSharedLines][6] = {};
     for (int k = 0; k < nb.count; ++k)
       analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k & 3],
-                          cn[k & 3], ct[k & 3], G[nb.column (k) - columns.first]);
-    columnForm<S, 6> (G, columns.count, nb.column_correlation, form);
+                          cn[k & 3], ct[k & 3], G[nb.line (k) - columns.first]);
+    lineForm<S, 6> (G, columns.count, nb.line_correlation, form);
 #endif
   }
   else
@@ -193,7 +193,7 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       S G[1][6];
       for (int j = 0; j < 6; ++j)
         G[0][j] = (cs[0][j] + cs[1][j]) + (cs[2][j] + cs[3][j]);
-      columnForm<S, 6> (G, 1, S (1), form);
+      lineForm<S, 6> (G, 1, S (1), form);
     }
   }
   if (centre.on)
@@ -265,7 +265,7 @@ analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], cons
   {
     const S G[1][6] = {{S (0), S (0), S (0), g[0], g[1], S (0)}};
     S form[21];
-    columnForm<S, 6> (G, 1, S (1), form);
+    lineForm<S, 6> (G, 1, S (1), form);
     addSharedNoise<S, 2> (nb.shared_fraction, form, 3, S (1), cov_n);
   }
 }
@@ -535,19 +535,19 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
 
   SampleCovariance<S> acc;
   acc.reset (centre);
-  const ColumnSpan columns = sharedColumns (nb);
+  const LineSpan columns = sharedLines (nb);
   if (columns.count > 0) // the shared noise by column: sample by sample, with its column normals
   {
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
-    PcaColumnSums<S> cols;
-    pcaColumnSums (nb, mask, basis, columns, n, cols);
+    PcaLineSums<S> cols;
+    pcaLineSums (nb, mask, basis, columns, n, cols);
     for (int s = 0; s < samples; ++s)
     {
       S z[kPcaSampleNormals], m[3], c[6], a1, a2;
       Vec3<S> dP;
       pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
       const SharedDraw<S> shared (nb, seed, texlet, s);
-      pcaColumnSampleMoments (md, cols, z, shared.e, m, c);
+      pcaLineSampleMoments (md, cols, z, shared.e, m, c);
       if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
         acc.add (dP, a1, a2);
     }

@@ -232,6 +232,17 @@ depthPerDisparity (const PixelContext &ctx)
   return kernels::depthPerDisparityMm (termDepthMm (ctx), ctx.fb_px_m);
 }
 
+/** \brief Correlation length, pixels, of offsets shared by `bands` bands whose bands - 1
+  * boundaries fall at random over \a extent_px lines: two lines dv apart share a band with
+  * probability about exp(-dv (bands - 1) / extent). Infinite for one band or an unknown extent.
+  */
+PCL_TEXLET_HD double
+bandCorrelationPx (double bands, double extent_px)
+{
+  const double boundaries = bands - 1.0;
+  return boundaries > 0.0 && extent_px > 0.0 ? extent_px / boundaries : INFINITY;
+}
+
 } // namespace effects
 } // namespace texlet
 } // namespace pcl

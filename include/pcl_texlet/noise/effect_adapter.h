@@ -108,6 +108,12 @@ template <typename E>
 using ColumnVarianceOp =
     decltype (E::columnVariance (std::declval<const double *> (), std::declval<Args<E>> (), PixelContext ()));
 template <typename E>
+using RowVarianceOp =
+    decltype (E::rowVariance (std::declval<const double *> (), std::declval<Args<E>> (), PixelContext ()));
+template <typename E>
+using RowCorrelationOp =
+    decltype (E::rowCorrelationPx (std::declval<const double *> (), std::declval<Args<E>> (), PixelContext ()));
+template <typename E>
 using FrameVarianceOp =
     decltype (E::frameVariance (std::declval<const double *> (), std::declval<Args<E>> (), PixelContext ()));
 template <typename E>
@@ -217,6 +223,24 @@ public:
       return Effect::columnVariance (values_.data (), settings_, ctx);
     else
       return 0.0;
+  }
+
+  double
+  rowVariance (const PixelContext &ctx) const override
+  {
+    if constexpr (detail::Has<Effect, detail::RowVarianceOp>::value)
+      return Effect::rowVariance (values_.data (), settings_, ctx);
+    else
+      return 0.0;
+  }
+
+  double
+  rowCorrelationPx (const PixelContext &ctx) const override
+  {
+    if constexpr (detail::Has<Effect, detail::RowCorrelationOp>::value)
+      return Effect::rowCorrelationPx (values_.data (), settings_, ctx);
+    else
+      return std::numeric_limits<double>::infinity ();
   }
 
   double

@@ -31,12 +31,25 @@ struct NoiseMoments
   double bias_mm = 0.0;               ///< expected measured minus true depth, mm
   double variance_mm2 = 0.0;          ///< variance independent from pixel to pixel, mm^2
   double column_variance_mm2 = 0.0;   ///< variance shared by a column of pixels within a frame, mm^2
-  double frame_variance_mm2 = 0.0;    ///< the part of it shared by all pixels of a frame, mm^2
+  double row_variance_mm2 = 0.0;      ///< variance shared by a row of pixels within a frame, mm^2
+  double frame_variance_mm2 = 0.0;    ///< the part of both shared by all pixels of a frame, mm^2
+  double row_frame_variance_mm2 = 0.0; ///< the rows' part of frame_variance_mm2, mm^2
   /** Columns over which the correlation of two columns' shared offsets falls by a factor e
     * (columnCorrelationPx () of the terms with a column variance, their rates weighted by it);
     * infinite: every column of a frame shares them. */
   double column_correlation_px = std::numeric_limits<double>::infinity ();
-  double sigma_mm = 0.0;              ///< total SD, sqrt of both variances, never below the floor
+  /** Rows over which the correlation of two rows' shared offsets falls by a factor e (as
+    * column_correlation_px, for the terms with a row variance). */
+  double row_correlation_px = std::numeric_limits<double>::infinity ();
+  double sigma_mm = 0.0;              ///< total SD, sqrt of the three variances, never below the floor
+
+  /** \brief The column offsets' variance about their frame's offset, mm^2. */
+  double
+  columnWithinFrameMm2 () const { return column_variance_mm2 - (frame_variance_mm2 - row_frame_variance_mm2); }
+
+  /** \brief The row offsets' variance about their frame's offset, mm^2. */
+  double
+  rowWithinFrameMm2 () const { return row_variance_mm2 - row_frame_variance_mm2; }
 };
 
 /** \brief One physical contribution to the depth noise. */
@@ -76,7 +89,13 @@ public:
   virtual double
   columnVariance (const PixelContext &) const { return 0.0; }
 
-  /** \brief The part of columnVariance () shared by every pixel of a frame, mm^2. */
+  /** \brief Variance shared by all pixels of a row within one frame (horizontal bands), mm^2. A
+    * term shares its offsets along columns or along rows, not both.
+    */
+  virtual double
+  rowVariance (const PixelContext &) const { return 0.0; }
+
+  /** \brief The part of columnVariance () (or rowVariance ()) shared by every pixel of a frame, mm^2. */
   virtual double
   frameVariance (const PixelContext &) const { return 0.0; }
 
@@ -85,6 +104,12 @@ public:
     */
   virtual double
   columnCorrelationPx (const PixelContext &) const { return std::numeric_limits<double>::infinity (); }
+
+  /** \brief Rows over which the correlation of two rows' offsets (rowVariance ()) falls by a
+    * factor e. Infinite (the default): all share them.
+    */
+  virtual double
+  rowCorrelationPx (const PixelContext &) const { return std::numeric_limits<double>::infinity (); }
 
   /** \brief Applied last, to the bias and the independent variance of the depth before the
     * sensor reports it (disparity quantisation). Identity by default.

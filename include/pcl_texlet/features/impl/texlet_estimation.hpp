@@ -83,6 +83,9 @@ public:
     : CloudPoints<PointInT> (cloud), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m), radius_px_ (radius_px),
       context_ (context ? *context : PixelContext ()), viewpoint_ {viewpoint[0], viewpoint[1], viewpoint[2]}
   {
+    // The image's size sets the correlation lengths of offsets shared along its lines.
+    context_.image_width_px = cloud.width;
+    context_.image_height_px = cloud.height;
     // Does the model's variance depend on the incidence angle? Then each texlet's covariances
     // are rescaled to its own viewing angle (see varianceScale).
     PixelContext a = context_, b = context_;
@@ -117,9 +120,9 @@ public:
 
   /** The model at a texlet's centre pixel (u, v) and depth z (metres), from one evaluation: its
     * depth SD (as modelSigma), and the part of its variance that the texlet's points share: the
-    * variance shared by a column of pixels within a frame (column bands, frame offsets) over the
-    * whole, with its correlation length across columns at this image's width
-    * (docs/texlet_covariances.md).
+    * variance shared by a column (or a row) of pixels within a frame (bands, frame offsets) over
+    * the whole, with its correlation length across those lines at this image's size. A model with
+    * both shares both along the larger one's lines (docs/texlet_covariances.md).
     */
   kernels::CentreNoise
   centreNoise (int u, int v, double z) const
@@ -130,13 +133,13 @@ public:
       s.sigma = modelSigma (u, v, z);
       return s;
     }
-    PixelContext ctx = pointContext (camera_, u, v, z, this->intensity (this->point (u, v)), context_);
-    ctx.image_width_px = this->width ();
+    const PixelContext ctx = pointContext (camera_, u, v, z, this->intensity (this->point (u, v)), context_);
     const NoiseMoments m = noise_.moments (ctx);
     s.sigma = m.sigma_mm * 1e-3;
-    const double total = m.sigma_mm * m.sigma_mm;
-    s.fraction = total > 0.0 && std::isfinite (m.column_variance_mm2) ? m.column_variance_mm2 / total : 0.0;
-    s.column_correlation_px = m.column_correlation_px;
+    const double total = m.sigma_mm * m.sigma_mm, shared = m.column_variance_mm2 + m.row_variance_mm2;
+    s.fraction = total > 0.0 && std::isfinite (shared) ? shared / total : 0.0;
+    s.lines_are_rows = m.row_variance_mm2 > m.column_variance_mm2;
+    s.line_correlation_px = s.lines_are_rows ? m.row_correlation_px : m.column_correlation_px;
     return s;
   }
 

@@ -122,13 +122,12 @@ struct VerticalStripes
 
   /** \brief Two columns du apart share a band unless one of the bands - 1 boundaries, each at a
     * random column, falls between them: probability (1 - du / width)^(bands - 1), about
-    * exp(-du (bands - 1) / width). Infinite for one band or an unknown width.
+    * exp(-du (bands - 1) / width).
     */
   static PCL_TEXLET_HD double
   columnCorrelationPx (const double *p, const NoSettings &, const PixelContext &ctx)
   {
-    const double boundaries = p[1] - 1.0;
-    return boundaries > 0.0 && ctx.image_width_px > 0.0 ? ctx.image_width_px / boundaries : INFINITY;
+    return bandCorrelationPx (p[1], ctx.image_width_px);
   }
 };
 
