@@ -106,11 +106,12 @@ TEST (ModelLabIndependentProof, FindsADriftThatScalesDepth)
 }
 // Quantisation and Herrera's distortion at once (320 x 240, where the noise is a fair part of a
 // step): the distortion moves each pixel's disparity, and so the sub-step phase the rounding
-// sees, by up to several steps (docs/model_lab.md section 7).
+// sees, by up to several steps (docs/model_lab.md section 7). The SD error ends near the
+// measured SD's own sampling floor, so the bound is 0.55, not 0.5 (the same section).
 TEST (ModelLabIndependentProof, FindsQuantisationAndDistortionTogether)
 {
   const std::vector<std::string> hidden{"disparity_quantization", "depth_distortion"};
-  pcl_texlet_test::expectBothFoundIn (generateWalls (hidden, 581, 320), hidden);
+  pcl_texlet_test::expectBothFoundIn (generateWalls (hidden, 581, 320), hidden, 0.55);
 }
 TEST (ModelLabIndependentProof, NothingSignificantWithoutAHiddenEffect)
 {

@@ -134,6 +134,30 @@ TEST (DataDrivenTerms, IntensityTermExplainsThePrint)
       EXPECT_FALSE (s.significant) << s.words;
 }
 
+// A term built from the data: horizontal bands (rows). On walls whose rows share offsets that
+// change from frame to frame (seeds the diagnostics' test does not use) the lab ranks `rows`
+// first and significant, ahead of vertical_stripes (whose frame part also absorbs them); adding
+// it brings the SD error to at most half the paper's, fits the generator's offset SD (0.12 px)
+// and band height (30 rows: about 8 bands), and the diagnostics no longer list the rows.
+TEST (DataDrivenTerms, RowTermExplainsTheBands)
+{
+  const auto recordings = pcl_texlet_test::generatedWalls (walls (), {"row_bands"}, 1061, 20, 320);
+  pcl_texlet_test::expectFoundIn (recordings, "rows", false, 0.5);
+  lab::ModelLab lab{lab::LabSettings ()};
+  for (const auto &r : recordings)
+    lab.addRecording (r);
+  const NoiseModel model = lab.addEffect (NoiseModel::paper (), "rows");
+  const NoiseTerm::Ptr rows = model.find ("rows");
+  ASSERT_NE (rows, nullptr);
+  const std::vector<double> p = rows->parameters ();
+  EXPECT_NEAR (p[0], 0.12, 0.015) << "offset_px";
+  EXPECT_NEAR (p[1], 8.0, 3.0) << "bands";
+  const lab::ResidualDiagnostics d = lab::diagnoseResiduals (lab, model);
+  for (const auto &s : d.structures)
+    if (s.structure == "rows" || s.structure == "frames")
+      EXPECT_FALSE (s.significant) << s.words;
+}
+
 // Without colour frames the grey level is unknown: the term is not applicable, and a model
 // holding it predicts what the model without it does.
 TEST (DataDrivenTerms, IntensityTermNeedsColourFrames)

@@ -62,22 +62,23 @@ synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<
     const double variance = mv.quantised && mv.grid ? model.moments (ctx).variance_mm2 : mo.variance_mm2;
     const RecordedMoments recorded = recordedMoments (model, mv.quantised, variance, 1000.0 * m.fb () / disparity);
     pvar[k] = recorded.variance_mm2;
-    pcol[k] = mo.column_variance_mm2;
+    pcol[k] = mo.column_variance_mm2 + mo.row_variance_mm2;
     pmean[k] = disparity - recorded.mean_offset_mm / p.J;
   }
   for (int k = 0; k < P; ++k)
   {
     PixelRow &p = out->px[k];
     const double var = pvar[k], col = pcol[k];
-    const double ssw = var * chi2 (p.n - 1);
+    const double ssw = var * chi2 (p.dof);
     p.ss_within = static_cast<float> (ssw);
     out->bins[p.bin].ssw += ssw;
     out->qbins[p.qbin].ssw += ssw;
     // Plus the noise of a mean.
     p.disparity = static_cast<float> (pmean[k] + gauss (rng) * std::sqrt ((var + col) / p.n) / p.J);
   }
-  for (ColumnStat &c : out->cols)
-    c.ss = columnOffsetVariance (mv, c, s) * chi2 (c.frames);
+  for (const bool row : {false, true})
+    for (LineStat &c : row ? out->rows : out->cols)
+      c.ss = lineOffsetVariance (mv, c, row, s) * chi2 (c.frames);
   const bool timed = frameDependent (model);
   for (FrameStat &f : out->frames)
   {

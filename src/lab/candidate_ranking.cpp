@@ -193,12 +193,13 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     PixelErrors pixels;
     c.metrics = evaluate (c.model, B, &pixels);
     const EffectSize size = effectSize (base_pixels, pixels);
-    const bool in_sd = size.sd_fall >= size.bias_fall;
-    c.effect_size = in_sd ? size.sd_fall : size.bias_fall;
-    c.effect_shows_in = in_sd ? "sd" : "bias";
-    c.effect_share = in_sd ? size.sd_share : size.bias_share;
-    c.error_before_mm = in_sd ? size.sd_before_mm : size.bias_before_mm;
-    c.error_after_mm = in_sd ? size.sd_after_mm : size.bias_after_mm;
+    const double falls[] = {size.sd_fall, size.bias_fall, size.line_fall};
+    const int best = static_cast<int> (std::max_element (falls, falls + 3) - falls);
+    c.effect_size = falls[best];
+    c.effect_shows_in = best == 0 ? "sd" : best == 1 ? "bias" : "offsets";
+    c.effect_share = best == 0 ? size.sd_share : best == 1 ? size.bias_share : size.line_share;
+    c.error_before_mm = best == 0 ? size.sd_before_mm : best == 1 ? size.bias_before_mm : size.line_before_mm;
+    c.error_after_mm = best == 0 ? size.sd_after_mm : best == 1 ? size.bias_after_mm : size.line_after_mm;
 #pragma omp critical(lab_progress)
     say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample, " +
          c.effect_shows_in + " error " + std::to_string (100.0 * c.effect_size) + " % of its squared error removed where it shows");

@@ -65,7 +65,9 @@ effectSize (const PixelErrors &base, const PixelErrors &candidate)
   EffectSize e;
   const Fall sd = fallWhereItShows (base.sd_pred, candidate.sd_pred, base.sd_meas);
   const Fall bias = fallWhereItShows (base.mean_pred, candidate.mean_pred, base.mean_meas);
+  const Fall line = fallWhereItShows (base.line_pred, candidate.line_pred, base.line_meas);
   e.sd_fall = sd.fall, e.sd_share = sd.share, e.sd_before_mm = sd.before, e.sd_after_mm = sd.after;
+  e.line_fall = line.fall, e.line_share = line.share, e.line_before_mm = line.before, e.line_after_mm = line.after;
   e.bias_fall = bias.fall, e.bias_share = bias.share, e.bias_before_mm = bias.before, e.bias_after_mm = bias.after;
   return e;
 }

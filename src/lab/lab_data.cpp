@@ -109,10 +109,10 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         J[i] = static_cast<float> (kernels::depthPerDisparityMm (m.surface_mm[i], m.fb ()));
       }
 
-    // Frame and column-frame mean offsets, in disparity.
-    const int W = m.width;
-    std::vector<double> Dt (frames.size (), 0.0), Dtc (frames.size () * W, 0.0);
-    std::vector<double> Nt (frames.size (), 0.0), Ntc (frames.size () * W, 0.0);
+    // Frame, column-frame and row-frame mean offsets, in disparity (the rows' after the columns').
+    const int W = m.width, H = m.height;
+    std::vector<double> Dt (frames.size (), 0.0), Dtc (frames.size () * W, 0.0), Dtr (frames.size () * H, 0.0);
+    std::vector<double> Nt (frames.size (), 0.0), Ntc (frames.size () * W, 0.0), Ntr (frames.size () * H, 0.0);
     // Calls f (i, z) for every pixel i of the half with a reading z in frame t, in pixel order.
     const auto forReadings = [&] (int t, const auto &f) {
       for (std::size_t i = 0; i < n; ++i)
@@ -143,6 +143,14 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
       for (int u = 0; u < W; ++u)
         if (Ntc[k * W + u] > 0)
           Dtc[k * W + u] /= Ntc[k * W + u];
+      forReadings (t, [&] (std::size_t i, std::uint16_t z) {
+        const int u = static_cast<int> (i % W), v = static_cast<int> (i / W);
+        Dtr[k * H + v] += (z - mean[i]) / J[i] - Dt[k] - Dtc[k * W + u];
+        Ntr[k * H + v] += 1;
+      });
+      for (int v = 0; v < H; ++v)
+        if (Ntr[k * H + v] > 0)
+          Dtr[k * H + v] /= Ntr[k * H + v];
     }
 
     // Covariate bins (recording, radius, depth, incidence angle, edge distance, grey level, and
@@ -235,7 +243,9 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         p.y = static_cast<float> ((v - m.camera.cy ()) / m.camera.fy ());
         p.log_n = std::log (p.n);
         p.inlier = m.inlier[i];
-        double st = 0, sw = 0;
+        // The frame's, column's and row's means hold 1 / N of each sample: that share of its
+        // degrees of freedom goes with them.
+        double st = 0, sw = 0, in_means = 0;
         for (std::size_t k = 0; k < frames.size (); ++k)
         {
           const std::uint16_t z = m.at (frames[k], i);
@@ -243,9 +253,11 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
             continue;
           const double dev = z - mean[i];
           st += dev * dev;
-          const double w = dev - J[i] * (Dt[k] + Dtc[k * W + u]);
+          const double w = dev - J[i] * (Dt[k] + Dtc[k * W + u] + Dtr[k * H + v]);
           sw += w * w;
+          in_means += 1.0 / Nt[k] + 1.0 / Ntc[k * W + u] + 1.0 / Ntr[k * H + v];
         }
+        p.dof = static_cast<float> ((count[i] - 1.0) - (1.0 - 1.0 / count[i]) * in_means);
         p.ss_total = static_cast<float> (st);
         p.ss_within = static_cast<float> (sw);
         p.bin = bin_at[i];
@@ -253,7 +265,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         for (int which = 0; which < 2; ++which)
         {
           Bin &B = (which ? d->qbins : d->bins)[which ? p.qbin : p.bin];
-          B.dof += p.n - 1;
+          B.dof += p.dof;
           B.ssw += p.ss_within;
           B.npix += 1;
           B.sum_log_n += p.log_n;
@@ -262,30 +274,37 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         d->px.push_back (p);
       }
 
-    // How the pixels' independent noise reaches the column and frame offsets (BinWeights).
+    // How the pixels' independent noise reaches the column, row and frame offsets (BinWeights).
     const int F = static_cast<int> (frames.size ());
     const int nb = static_cast<int> (d->bins.size ()) - bins_first, nq = static_cast<int> (d->qbins.size ()) - qbins_first;
     std::vector<double> col_w (static_cast<std::size_t> (W) * nb, 0.0), col_q (static_cast<std::size_t> (W) * nq, 0.0);
+    std::vector<double> row_w (static_cast<std::size_t> (H) * nb, 0.0), row_q (static_cast<std::size_t> (H) * nq, 0.0);
     std::vector<double> frame_w (static_cast<std::size_t> (F) * nb, 0.0), frame_q (static_cast<std::size_t> (F) * nq, 0.0);
-    std::vector<double> col_frames (W, 0.0);
-    for (int u = 0; u < W; ++u)
-      for (int k = 0; k < F; ++k)
+    std::vector<double> col_frames (W, 0.0), row_frames (H, 0.0);
+    for (int k = 0; k < F; ++k)
+    {
+      for (int u = 0; u < W; ++u)
         col_frames[u] += Ntc[k * W + u] > 1 ? 1.0 : 0.0;
+      for (int v = 0; v < H; ++v)
+        row_frames[v] += Ntr[k * H + v] > 1 ? 1.0 : 0.0;
+    }
     for (std::size_t i = 0; i < n; ++i)
     {
       if (!member[i])
         continue;
-      const int u = static_cast<int> (i % W);
+      const int u = static_cast<int> (i % W), v = static_cast<int> (i / W);
       const int b = bin_at[i] - bins_first, q = qbin_at[i] - qbins_first;
       const double base = (1.0 - 1.0 / count[i]) / (double (J[i]) * J[i]);
-      double in_columns = 0;
+      double in_columns = 0, in_rows = 0;
       for (int k = 0; k < F; ++k)
       {
         if (!m.at (frames[k], i))
           continue;
-        const double nc = Ntc[k * W + u];
+        const double nc = Ntc[k * W + u], nr = Ntr[k * H + v];
         if (nc > 1)
           in_columns += 1.0 / (nc * nc);
+        if (nr > 1)
+          in_rows += 1.0 / (nr * nr);
         if (Nt[k] >= 2)
         {
           frame_w[static_cast<std::size_t> (k) * nb + b] += base / (Nt[k] * Nt[k]);
@@ -297,6 +316,11 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         col_w[static_cast<std::size_t> (u) * nb + b] += base * in_columns / col_frames[u];
         col_q[static_cast<std::size_t> (u) * nq + q] += base * in_columns / col_frames[u];
       }
+      if (row_frames[v] > 0)
+      {
+        row_w[static_cast<std::size_t> (v) * nb + b] += base * in_rows / row_frames[v];
+        row_q[static_cast<std::size_t> (v) * nq + q] += base * in_rows / row_frames[v];
+      }
     }
     const auto sparse = [] (const double *w, int count, int first, std::vector<std::pair<int, double>> &out) {
       out.clear ();
@@ -305,42 +329,51 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
           out.emplace_back (first + b, w[b]);
     };
 
-    // Columns and frames.
-    std::vector<double> best_dist (W, 1e30);
-    std::vector<std::size_t> best_index (W, 0);
-    for (std::size_t i = 0; i < n; ++i)
-      if (member[i])
+    // Columns, rows and frames. A line's context is its pixel nearest the principal point's row
+    // (a row's: nearest its column).
+    const auto addLines = [&] (bool rows, std::vector<LineStat> &out) {
+      const int L = rows ? H : W;
+      const std::vector<double> &Dl = rows ? Dtr : Dtc, &Nl = rows ? Ntr : Ntc;
+      const std::vector<double> &lw = rows ? row_w : col_w, &lq = rows ? row_q : col_q;
+      const double centre_line = rows ? m.camera.cx () : m.camera.cy ();
+      std::vector<double> best_dist (L, 1e30);
+      std::vector<std::size_t> best_index (L, 0);
+      for (std::size_t i = 0; i < n; ++i)
+        if (member[i])
+        {
+          const int line = static_cast<int> (rows ? i / W : i % W);
+          const double dist = std::fabs (double (rows ? i % W : i / W) - centre_line);
+          if (dist < best_dist[line])
+          {
+            best_dist[line] = dist;
+            best_index[line] = i;
+          }
+        }
+      for (int l = 0; l < L; ++l)
       {
-        const int u = static_cast<int> (i % W);
-        const double dist = std::fabs (double (i / W) - m.camera.cy ());
-        if (dist < best_dist[u])
-        {
-          best_dist[u] = dist;
-          best_index[u] = i;
-        }
+        if (best_dist[l] > 1e29)
+          continue;
+        LineStat c;
+        c.rec = static_cast<int> (r);
+        c.ctx = pixelContext (m, best_index[l]);
+        for (std::size_t k = 0; k < frames.size (); ++k)
+          if (Nl[k * L + l] > 1)
+          {
+            c.frames += 1;
+            c.ss += Dl[k * L + l] * Dl[k * L + l];
+          }
+        if (c.frames < 1)
+          continue;
+        sparse (&lw[static_cast<std::size_t> (l) * nb], nb, bins_first, c.noise.bins);
+        sparse (&lq[static_cast<std::size_t> (l) * nq], nq, qbins_first, c.noise.qbins);
+        // Pixels of one sample are their own mean: an offset of only such pixels is 0, no datum.
+        if (c.noise.bins.empty ())
+          continue;
+        out.push_back (c);
       }
-    for (int u = 0; u < W; ++u)
-    {
-      if (best_dist[u] > 1e29)
-        continue;
-      ColumnStat c;
-      c.rec = static_cast<int> (r);
-      c.ctx = pixelContext (m, best_index[u]);
-      for (std::size_t k = 0; k < frames.size (); ++k)
-        if (Ntc[k * W + u] > 1)
-        {
-          c.frames += 1;
-          c.ss += Dtc[k * W + u] * Dtc[k * W + u];
-        }
-      if (c.frames < 1)
-        continue;
-      sparse (&col_w[static_cast<std::size_t> (u) * nb], nb, bins_first, c.noise.bins);
-      sparse (&col_q[static_cast<std::size_t> (u) * nq], nq, qbins_first, c.noise.qbins);
-      // Pixels of one sample are their own mean: an offset of only such pixels is 0, no datum.
-      if (c.noise.bins.empty ())
-        continue;
-      d->cols.push_back (c);
-    }
+    };
+    addLines (false, d->cols);
+    addLines (true, d->rows);
     std::size_t centre = 0;
     double cbest = 1e30;
     for (std::size_t i = 0; i < n; ++i)

@@ -1,8 +1,8 @@
 /*
  * pcl_texlet model lab (internal): the aggregates of one half of the recordings that the fits and
  * scores work on. Pixels with at least two samples in the half (one in single-frame sets, whose
- * within, column and frame parts are then empty), their covariate bins, and the
- * mean offsets of columns and frames (the parts of the NLL in model_lab.h); buildData makes
+ * within, column, row and frame parts are then empty), their covariate bins, and the
+ * mean offsets of columns, rows and frames (the parts of the NLL in model_lab.h); buildData makes
  * them from the measured recordings.
  */
 #pragma once
@@ -42,7 +42,8 @@ struct PixelRow
   float J;          // depth per disparity at the surface, mm/px
   float x, y;       // normalised image coordinates
   float ss_total;   // sum of squared deviations from the mean
-  float ss_within;  // ... after removing the frame and column-frame means
+  float ss_within;  // ... after removing the frame, column-frame and row-frame means
+  float dof;        // its degrees of freedom: n - 1 less the share those means take
   float log_n;
   int bin, qbin;
   std::uint8_t inlier;
@@ -57,7 +58,7 @@ struct Bin
   int rec = 0;
 };
 
-/** How the independent noise of a column's (or a frame's) pixels reaches its mean offset: per
+/** How the independent noise of a column's (a row's, a frame's) pixels reaches its mean offset: per
   * covariate bin b, the weight w_b with Var(offset) = sum_b w_b var_b (disparity px^2, var_b the
   * bin's variance in mm^2). w_b sums (1 - 1/n_i) / (J_i^2 N^2) over the offset's N samples i in
   * bin b (n_i: pixel i's samples in the half, whose mean is taken out first). Every pixel counts,
@@ -72,11 +73,11 @@ struct BinWeights
   of (bool quantised) const { return quantised ? qbins : bins; }
 };
 
-/** The mean offset of one column in the frames of a half. */
-struct ColumnStat
+/** The mean offsets of one column (or one row) about its frame's offset in the frames of a half. */
+struct LineStat
 {
   int rec;
-  PixelContext ctx;     // the column's pixel nearest the principal point's row (shared variances)
+  PixelContext ctx;     // the line's pixel nearest the principal point's row (column) (shared variances)
   double frames = 0, ss = 0;
   BinWeights noise;     // the pixels' noise in the offsets, averaged over the frames
 };
@@ -96,7 +97,7 @@ struct ModelLab::Data
   Half half = Half::all;
   std::vector<PixelRow> px;
   std::vector<Bin> bins, qbins;
-  std::vector<ColumnStat> cols;
+  std::vector<LineStat> cols, rows;
   std::vector<FrameStat> frames;
   std::vector<PixelContext> rep;             // per recording: the used pixel nearest the centre
   std::vector<std::vector<int>> frame_list;  // per recording: frames of the half

@@ -42,11 +42,12 @@ pixelNoiseIn (const BinWeights &w, bool quantised, const StaticState &s)
 }
 
 double
-columnOffsetVariance (const ModelView &mv, const ColumnStat &c, const StaticState &s)
+lineOffsetVariance (const ModelView &mv, const LineStat &c, bool row, const StaticState &s)
 {
   const NoiseMoments m = mv.without_grid.moments (c.ctx);
   const double J = kernels::depthPerDisparityMm (c.ctx.true_depth_mm, c.ctx.fb_px_m);
-  return (m.column_variance_mm2 - m.frame_variance_mm2) / (J * J) + pixelNoiseIn (c.noise, mv.quantised, s);
+  const double shared = row ? m.rowWithinFrameMm2 () : m.columnWithinFrameMm2 ();
+  return shared / (J * J) + pixelNoiseIn (c.noise, mv.quantised, s);
 }
 
 double
@@ -57,17 +58,18 @@ objective (const ModelView &mv, const ModelLab::Data &d, const StaticState &s, b
   for (std::size_t b = 0; b < bins.size (); ++b)
   {
     const Bin &B = bins[b];
-    const double var = s.bin_var[b], V = var + s.bin_col[b];
+    const double var = s.bin_var[b], V = var + s.bin_shared[b];
     L += 0.5 * B.dof * std::log (kTwoPi * var) + B.ssw / (2 * var);
     if (with_static)
       L += 0.5 * B.npix * std::log (kTwoPi * V) - 0.5 * B.sum_log_n + s.ss_static[b] / (2 * V);
   }
-  for (const ColumnStat &c : d.cols)
-  {
-    const double v = columnOffsetVariance (mv, c, s);
-    const double J = kernels::depthPerDisparityMm (c.ctx.true_depth_mm, c.ctx.fb_px_m);
-    L += 0.5 * c.frames * std::log (kTwoPi * v) + c.ss / (2 * v) + c.frames * std::log (J);
-  }
+  for (const bool row : {false, true})
+    for (const LineStat &c : row ? d.rows : d.cols)
+    {
+      const double v = lineOffsetVariance (mv, c, row, s);
+      const double J = kernels::depthPerDisparityMm (c.ctx.true_depth_mm, c.ctx.fb_px_m);
+      L += 0.5 * c.frames * std::log (kTwoPi * v) + c.ss / (2 * v) + c.frames * std::log (J);
+    }
   const bool timed = frameDependent (mv.model);
   std::vector<double> pred;
   int current = -1;

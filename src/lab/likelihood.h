@@ -30,12 +30,12 @@ frameBias (const NoiseModel &model, PixelContext ctx, int frame);
 double
 pixelNoiseIn (const BinWeights &w, bool quantised, const StaticState &s);
 
-/** Predicted variance (disparity px^2) of a column's mean offset about its frame's mean: the
-  * model's column-shared variance less the part shared by the whole frame (taken out with the
-  * frame's mean), plus the noise of the mean of the column's pixels.
+/** Predicted variance (disparity px^2) of a column's (\a row: a row's) mean offset about its
+  * frame's mean: the model's column-shared (row-shared) variance less the part shared by the whole
+  * frame (taken out with the frame's mean), plus the noise of the mean of the line's pixels.
   */
 double
-columnOffsetVariance (const ModelView &mv, const ColumnStat &c, const StaticState &s);
+lineOffsetVariance (const ModelView &mv, const LineStat &c, bool row, const StaticState &s);
 
 /** The NLL (sum, not per sample) of a half under a model, on bins; without \a with_static, the
   * temporal parts only (the pixels' means left out).

@@ -35,9 +35,9 @@ namespace
 
 const int kSpatialRadius = 3; // a 7 x 7 window: a few pixels, far below the scale of a smooth bias (a map's cells)
 
-/** The share of a column offset's variance (offsets whose correlation falls by e over
-  * \a length_px columns) that a pixel's difference from the mean of its 48 neighbours in the
-  * window keeps, scaled as spatialSd () scales it: 0 where every column shares the offset.
+/** The share of a line offset's variance (column or row offsets whose correlation falls by e
+  * over \a length_px lines) that a pixel's difference from the mean of its 48 neighbours in the
+  * window keeps, scaled as spatialSd () scales it: 0 where every line shares the offset.
   */
 double
 windowShare (double length_px)
@@ -183,7 +183,7 @@ ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels)
     {
       // objective () adds the bins' parts; take them out again, they are done per pixel below.
       const Bin &B = bins[b];
-      const double var = s.bin_var[b], V = var + s.bin_col[b];
+      const double var = s.bin_var[b], V = var + s.bin_shared[b];
       L -= 0.5 * B.dof * std::log (kTwoPi * var) + B.ssw / (2 * var);
       L -= 0.5 * B.npix * std::log (kTwoPi * V) - 0.5 * B.sum_log_n + s.ss_static[b] / (2 * V);
     }
@@ -219,6 +219,14 @@ ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels)
   {
     for (auto *v : {&pixels->sd_pred, &pixels->sd_meas, &pixels->mean_pred, &pixels->mean_meas})
       v->assign (P, 0.0f);
+    pixels->line_pred.clear (), pixels->line_meas.clear ();
+    for (const bool row : {false, true})
+      for (const LineStat &c : row ? d.rows : d.cols)
+      {
+        const double J = kernels::depthPerDisparityMm (c.ctx.true_depth_mm, c.ctx.fb_px_m);
+        pixels->line_pred.push_back (static_cast<float> (J * std::sqrt (lineOffsetVariance (mv, c, row, s))));
+        pixels->line_meas.push_back (static_cast<float> (J * std::sqrt (c.ss / c.frames)));
+      }
   }
   std::vector<float> residual (P), mean_var (P); // measured minus predicted mean; predicted variance of the mean
   double sd2 = 0, sd_count = 0, b2 = 0, lp = 0, in1 = 0, in2 = 0, count = 0;
@@ -234,7 +242,7 @@ ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels)
     const RecordedMoments recorded =
         recordedMoments (model, mv.quantised, mo.variance_mm2,
                          predictedMeanMm (surface_disparity, 1000.0 * m.fb (), mo.bias_mm, p.J));
-    const double var = recorded.variance_mm2, col = mo.column_variance_mm2;
+    const double var = recorded.variance_mm2, col = mo.column_variance_mm2 + mo.row_variance_mm2;
     const double sd_pred = std::sqrt (var + col + p.J * p.J * drift_var[p.rec]);
     // One sample (single frames): no temporal SD to compare.
     const double sd_meas = p.n > 1 ? std::sqrt (p.ss_total / (p.n - 1)) : kNaN;
@@ -254,9 +262,10 @@ ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels)
     const double V = var + col;
     residual[k] = static_cast<float> (e);
     // Offsets shared over the window cancel in a local difference; a frame's cancel wholly.
-    const double within_frame = std::max (0.0, mo.column_variance_mm2 - mo.frame_variance_mm2);
-    mean_var[k] = static_cast<float> ((var + within_frame * windowShare (mo.column_correlation_px)) / p.n);
-    lp += 0.5 * (p.n - 1) * std::log (kTwoPi * var) + p.ss_within / (2 * var);
+    const double local = var + std::max (0.0, mo.columnWithinFrameMm2 ()) * windowShare (mo.column_correlation_px) +
+                         std::max (0.0, mo.rowWithinFrameMm2 ()) * windowShare (mo.row_correlation_px);
+    mean_var[k] = static_cast<float> (local / p.n);
+    lp += 0.5 * p.dof * std::log (kTwoPi * var) + p.ss_within / (2 * var);
     lp += 0.5 * std::log (kTwoPi * V / p.n) + p.n * e * e / (2 * V);
     const double sigma = std::sqrt (V);
     for (int t : d.frame_list[p.rec])

@@ -51,10 +51,10 @@ struct RecordingModel
 {
   const RecordingMeasurement *m = nullptr;
   std::vector<float> mean, sd;          // predicted mean and SD, mm (NaN: not used)
-  std::vector<float> own, column, frame; // SDs of the independent, column (less frame) and frame parts, mm
+  std::vector<float> own, column, row, frame; // SDs of the independent, column and row (less frame) and frame parts, mm
   std::vector<float> drift;             // per frame: disparity offset (px) of the model's drift, mean 0
   std::vector<float> J;                 // depth per disparity, mm/px
-  double a = 1;                         // correlation of adjacent columns' offsets
+  double a = 1, a_row = 1;              // correlation of adjacent columns' (rows') offsets
 };
 
 /** The statistics, summed over recordings. */
@@ -393,14 +393,16 @@ measuredDepths (const RecordingModel &rm, std::vector<float> &y)
 double
 ar1VarianceAboutMean (double a, std::size_t n)
 {
-  if (n < 2 || a >= 1.0)
+  if (n < 2)
+    return 0.0;
+  if (a >= 1.0)
     return 0.0;
   const double N = static_cast<double> (n);
   const double var_mean = ((1 + a) / (1 - a) - 2 * a * (1 - std::pow (a, N)) / (N * (1 - a) * (1 - a))) / N;
   return 1.0 - var_mean;
 }
 
-/** A replica: the model's mean plus its noise (independent, column, frame parts) on the
+/** A replica: the model's mean plus its noise (independent, column, row, frame parts) on the
   * recording's valid samples, rounded to whole millimetres as the recording is. */
 void
 replicaDepths (const RecordingModel &rm, std::mt19937_64 &rng, std::vector<float> &y)
@@ -410,27 +412,36 @@ replicaDepths (const RecordingModel &rm, std::mt19937_64 &rng, std::vector<float
   const std::size_t n = static_cast<std::size_t> (W) * m.height;
   std::normal_distribution<float> normal;
   y.assign (n * m.frames, kNaNf);
-  std::vector<float> col (W);
-  const float a = static_cast<float> (rm.a), b = static_cast<float> (std::sqrt (std::max (0.0, 1.0 - rm.a * rm.a)));
-  // The column offsets about the frame's offset (drawn apart as F): an AR(1) sequence less its
-  // mean, scaled to unit expected variance about that mean.
-  const double within = ar1VarianceAboutMean (rm.a, static_cast<std::size_t> (W));
-  const float scale = within > 1e-9 ? static_cast<float> (1.0 / std::sqrt (within)) : 0.0f;
+  std::vector<float> col (W), row (m.height);
+  // Offsets along a line whose neighbours correlate a, about the frame's offset (drawn apart):
+  // an AR(1) sequence less its mean, scaled to unit expected variance about that mean.
+  const auto drawLine = [&] (double a, std::vector<float> &line) {
+    const double within = ar1VarianceAboutMean (a, line.size ());
+    if (!(within > 1e-9))
+    {
+      std::fill (line.begin (), line.end (), 0.0f);
+      return;
+    }
+    const float b = static_cast<float> (std::sqrt (std::max (0.0, 1.0 - a * a)));
+    double sum = 0;
+    for (std::size_t k = 0; k < line.size (); ++k)
+    {
+      line[k] = k == 0 ? normal (rng) : static_cast<float> (a) * line[k - 1] + b * normal (rng);
+      sum += line[k];
+    }
+    const float centre = static_cast<float> (sum / line.size ()), scale = static_cast<float> (1.0 / std::sqrt (within));
+    for (float &x : line)
+      x = (x - centre) * scale;
+  };
   for (int t = 0; t < m.frames; ++t)
   {
     const float F = normal (rng);
-    double sum = 0;
-    for (int u = 0; u < W; ++u)
-    {
-      col[u] = u == 0 ? normal (rng) : a * col[u - 1] + b * normal (rng);
-      sum += col[u];
-    }
-    const float centre = static_cast<float> (sum / W);
-    for (float &c : col)
-      c = (c - centre) * scale;
+    drawLine (rm.a, col);
+    drawLine (rm.a_row, row);
     for (std::size_t i = 0; i < n; ++i)
       if (m.at (t, i) > 0 && std::isfinite (rm.sd[i]))
-        y[t * n + i] = std::round (rm.mean[i] + rm.own[i] * normal (rng) + rm.column[i] * col[i % W] + rm.frame[i] * F);
+        y[t * n + i] = std::round (rm.mean[i] + rm.own[i] * normal (rng) + rm.column[i] * col[i % W] +
+                                   rm.row[i] * row[i / W] + rm.frame[i] * F);
   }
 }
 
@@ -504,9 +515,10 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
     const std::size_t n = static_cast<std::size_t> (m.width) * m.height;
     rm.own.assign (n, 0.0f);
     rm.column.assign (n, 0.0f);
+    rm.row.assign (n, 0.0f);
     rm.frame.assign (n, 0.0f);
     rm.J.assign (n, 0.0f);
-    double rate = 0, weight = 0;
+    double rate = 0, weight = 0, row_rate = 0, row_weight = 0;
     std::size_t centre = 0;
     double best = std::numeric_limits<double>::infinity ();
     for (std::size_t i = 0; i < n; ++i)
@@ -516,11 +528,16 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
       const PixelContext ctx = lab.context (r, i);
       const NoiseMoments mo = model.moments (ctx);
       const double sd2 = double (rm.sd[i]) * rm.sd[i];
-      const double frame2 = std::min (mo.frame_variance_mm2, mo.column_variance_mm2);
-      const double column2 = mo.column_variance_mm2 - frame2;
+      const double shared2 = mo.column_variance_mm2 + mo.row_variance_mm2;
+      const double frame2 = std::min (mo.frame_variance_mm2, shared2);
+      const double column2 = std::max (0.0, mo.columnWithinFrameMm2 ()), row2 = std::max (0.0, mo.rowWithinFrameMm2 ());
       rm.frame[i] = static_cast<float> (std::sqrt (std::max (0.0, frame2)));
-      rm.column[i] = static_cast<float> (std::sqrt (std::max (0.0, column2)));
-      rm.own[i] = static_cast<float> (std::sqrt (std::max (0.0, sd2 - mo.column_variance_mm2)));
+      rm.column[i] = static_cast<float> (std::sqrt (column2));
+      rm.row[i] = static_cast<float> (std::sqrt (row2));
+      rm.own[i] = static_cast<float> (std::sqrt (std::max (0.0, sd2 - shared2)));
+      if (row2 > 0 && std::isfinite (mo.row_correlation_px) && mo.row_correlation_px > 0)
+        row_rate += row2 / mo.row_correlation_px;
+      row_weight += row2;
       rm.J[i] = static_cast<float> (kernels::depthPerDisparityMm (m.surface_mm[i], m.fb ()));
       if (column2 > 0 && std::isfinite (mo.column_correlation_px) && mo.column_correlation_px > 0)
       {
@@ -536,6 +553,7 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
       }
     }
     rm.a = weight > 0 ? std::exp (-rate / weight) : 1.0;
+    rm.a_row = row_weight > 0 ? std::exp (-row_rate / row_weight) : 1.0;
     if (drifts && std::isfinite (rm.sd[centre]))
     {
       // The drift the model predicts, as a disparity offset of the central pixel: each frame's

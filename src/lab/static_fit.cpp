@@ -36,13 +36,13 @@ void
 binMoments (const ModelView &mv, const std::vector<Bin> &bins, StaticState &s)
 {
   s.bin_var.resize (bins.size ());
-  s.bin_col.resize (bins.size ());
+  s.bin_shared.resize (bins.size ());
   s.bin_bias.resize (bins.size ());
   for (std::size_t b = 0; b < bins.size (); ++b)
   {
     const NoiseMoments m = mv.without_grid.moments (bins[b].ctx);
     s.bin_var[b] = recordedVarianceOverPhases (mv.model, mv.quantised, m.variance_mm2);
-    s.bin_col[b] = m.column_variance_mm2;
+    s.bin_shared[b] = m.column_variance_mm2 + m.row_variance_mm2;
     s.bin_bias[b] = mv.quantised ? m.bias_mm : 0.0;
   }
 }
@@ -117,7 +117,7 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
     if (!d.plane[p.rec] || !p.inlier)
       continue;
     const int b = mv.quantised ? p.qbin : p.bin;
-    const double w = p.n * p.J * p.J / (s.bin_var[b] + s.bin_col[b]);
+    const double w = p.n * p.J * p.J / (s.bin_var[b] + s.bin_shared[b]);
     const double t = target (p);
     const double row[3] = {1.0, p.x, p.y};
     const int o = 3 * p.rec;
@@ -233,7 +233,7 @@ staticFit (const ModelView &mv, const ModelLab::Data &d, const std::vector<Recor
     solveStatic (mv, grid.get (), d, recs, true, trial);
     double score = 0;
     for (std::size_t b = 0; b < trial.ss_static.size (); ++b)
-      score += trial.ss_static[b] / (trial.bin_var[b] + trial.bin_col[b]);
+      score += trial.ss_static[b] / (trial.bin_var[b] + trial.bin_shared[b]);
     if (score < best)
     {
       best = score;

@@ -89,7 +89,7 @@ struct StaticState
   std::vector<double> grid;              // fitted grid node offsets, px (empty: the model's own)
   std::vector<std::pair<std::string, double>> grid_settings; // the grid's shape settings the fit chose
   std::vector<double> ss_static;         // per bin of the set in use: sum of n e^2
-  std::vector<double> bin_var, bin_col, bin_bias; // per bin of the set in use
+  std::vector<double> bin_var, bin_shared, bin_bias; // per bin of the set in use
   std::vector<float> pixel_bias;         // quantised models: per-pixel bias (mm) of the other terms
 };
 

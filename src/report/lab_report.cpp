@@ -848,8 +848,8 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     << lab.settings ().min_total_gain_nats << " on data the fit did not see), and, so that it matters as well as "
        "being detectable, it removes at least "
     << 100.0 * lab.settings ().min_effect_size
-    << " % of the mean squared error of the SD or the bias where it shows (the pixels where adding it moves that "
-       "prediction most). For the statistically significant candidates the texlets are scored too: the median "
+    << " % of the mean squared error of the SD, the bias or the lines' offsets where it shows (the pixels, or the "
+       "columns and rows, where adding it moves that prediction most). For the statistically significant candidates the texlets are scored too: the median "
        "texlet NEES of P and N over its ideal with the candidate's model (fitted on the fit half); nearer 1 "
        "means honester covariances. The choice stays with the held-out likelihood: the texlet NEES sums every "
        "effect into two numbers and cannot tell which is missing.</p>\n<table><tr><th>#</th><th>effect</th><th>gain (nats/sample)"
@@ -863,7 +863,8 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     if (c.applicable)
       h << "<td>" << fmt (c.gain) << "</td><td>" << fmt (c.threshold, 3) << "</td><td>" << fmt (100.0 * c.effect_size, 3)
         << " % of the " << c.effect_shows_in << " error's mean square (RMS " << fmt (c.error_before_mm, 3) << " to "
-        << fmt (c.error_after_mm, 3) << " mm over " << fmt (100.0 * c.effect_share, 2) << " % of pixels)</td><td"
+        << fmt (c.error_after_mm, 3) << " mm over " << fmt (100.0 * c.effect_share, 2)
+        << (c.effect_shows_in == "offsets" ? " % of lines)" : " % of pixels)") << "</td><td"
         << (c.significant ? " class=\"sig\">yes" : (c.statistically_significant ? ">no (too small)" : ">no"))
         << "</td><td>" << sdText (c.metrics.sd_rmse_mm) << "</td><td>"
         << fmt (c.metrics.bias_rmse_mm) << "</td><td>" << fmt (c.metrics.nll) << "</td><td>"

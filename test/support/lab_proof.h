@@ -43,12 +43,21 @@ runLabOn (const std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr> &r
   std::cout << title << "\n  start: sd_rmse " << run.before.sd_rmse_mm << " bias_rmse " << run.before.bias_rmse_mm
             << " nll " << run.before.nll << "\n";
   for (const auto &c : run.candidates)
+  {
     std::cout << "  " << c.effect << ": gain " << c.gain << " (" << c.total_gain << " nats in all) threshold "
               << c.threshold << " (null " << c.null_mean << " +- " << c.null_sd << "), " << c.effect_shows_in
               << " error: " << 100.0 * c.effect_size << " % of its mean square removed where it shows ("
               << 100.0 * c.effect_share << " % of pixels)" << (c.significant ? " significant" : "")
               << (c.statistically_significant && !c.significant ? " (detectable, too small)" : "") << " sd_rmse "
-              << c.metrics.sd_rmse_mm << " bias_rmse " << c.metrics.bias_rmse_mm << "\n";
+              << c.metrics.sd_rmse_mm << " bias_rmse " << c.metrics.bias_rmse_mm;
+    if (const NoiseTerm::Ptr term = c.model.find (c.effect))
+    {
+      std::cout << ", fitted";
+      for (const double v : term->parameters ())
+        std::cout << " " << v;
+    }
+    std::cout << "\n";
+  }
   if (add_first && !run.candidates.empty ())
   {
     const NoiseModel added = lab.addEffect (paper, run.candidates.front ().effect);
@@ -112,6 +121,15 @@ expectBothFoundIn (const std::vector<pcl::texlet::lab::RecordingMeasurement::Con
   const lab::LabMetrics after = lab.evaluate (model);
   std::cout << "  after adding " << added[0] << " and " << added[1] << ": sd_rmse " << after.sd_rmse_mm
             << " bias_rmse " << after.bias_rmse_mm << "\n";
+  for (const auto &term : model.terms ())
+  {
+    std::cout << "  " << term->name () << ":";
+    for (const double v : term->parameters ())
+      std::cout << " " << v;
+    for (const auto &setting : term->settings ())
+      std::cout << " " << setting.first << "=" << setting.second;
+    std::cout << "\n";
+  }
   std::sort (added.begin (), added.end ());
   std::sort (effects.begin (), effects.end ());
   EXPECT_EQ (added, effects);

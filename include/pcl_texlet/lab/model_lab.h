@@ -72,8 +72,8 @@ struct LabMetrics
     */
   double bias_spatial_sd_mm = 0;
   /** \brief The model's prediction of bias_spatial_sd_mm: the RMS over the same pixels of the
-    * predicted SD of a pixel's mean, sqrt (variance / n), counting of the column offsets only
-    * the part that does not cancel against the neighbours' (none of a frame's offset).
+    * predicted SD of a pixel's mean, sqrt (variance / n), counting of the column and row offsets
+    * only the part that does not cancel against the neighbours' (none of a frame's offset).
     */
   double bias_spatial_sd_pred_mm = 0;
   double nll = 0;           ///< Gaussian NLL per depth sample (see the file comment)
@@ -105,7 +105,7 @@ struct Candidate
     * move.
     */
   double effect_size = 0;
-  std::string effect_shows_in;  ///< "sd" or "bias": which error effect_size is of
+  std::string effect_shows_in;  ///< "sd", "bias" or "offsets" (of columns and rows): which error effect_size is of
   double effect_share = 0;      ///< share of the score half's pixels where it shows
   double error_before_mm = 0;   ///< the RMS error there under the current model refitted
   double error_after_mm = 0;    ///< ... and with the candidate
