@@ -43,8 +43,12 @@ status=0
 proofs='^ModelLabProof[.](FindsQuantisation|FindsVertical|FindsIncidence|FindsInterference|FindsTemporal|FindsDisparity|Nothing)'
 proofs+='|^ModelLabIndependentProof[.](FindsQuantisation|FindsVertical|FindsIncidence|FindsInterference|FindsADrift|FindsDepth|Nothing|FindsDisparityQuantization$)'
 # Of the residual diagnostics' cases (the same code on other walls) the clean walls run here; of the
-# terms built from the data, the case without colour frames.
-proofs+='|^ResidualDiagnostics[.](Finds|StripesInTheModel|DriftInTheModel)|^DataDrivenTerms[.]IntensityTermExplains'
+# terms built from the data, the case without colour frames; of the texlets' banded walls, the
+# column stripes (the rows run the same kernels along the other axis).
+proofs+='|^ResidualDiagnostics[.](Finds|StripesInTheModel|DriftInTheModel)|^DataDrivenTerms[.](IntensityTermExplains|RowTermExplains)|^TexletCovariances[.]RowBands'
+# Of the single-frame sets, the generator's distortion (the simulator's and the clean walls run the
+# same single-frame code).
+proofs+='|^ModelLabFewFrames[.](SingleFrameWallsOfTheSimulator|CleanSingleFrame)'
 LD_PRELOAD=$(pwd)/test/sanitizer/libkeep_modules_loaded.so ctest --output-on-failure -j "$jobs" -E "$proofs" || status=$?
 t2=$(date +%s)
 echo "run_sanitizer_tests: build $((t1 - t0)) s, ctest $((t2 - t1)) s (jobs=$jobs), status $status"
