@@ -257,7 +257,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
           sw += w * w;
           in_means += 1.0 / Nt[k] + 1.0 / Ntc[k * W + u] + 1.0 / Ntr[k * H + v];
         }
-        p.dof = static_cast<float> ((count[i] - 1.0) - (1.0 - 1.0 / count[i]) * in_means);
+        p.dof = static_cast<float> (std::max (0.0, (count[i] - 1.0) - (1.0 - 1.0 / count[i]) * in_means));
         p.ss_total = static_cast<float> (st);
         p.ss_within = static_cast<float> (sw);
         p.bin = bin_at[i];
