@@ -295,14 +295,16 @@ TEST (SimulatorEffects, CatalogueFollowsTheDesignVocabulary)
   const std::vector<std::string> expected = {"axial_quadratic", "radial",        "disparity_quantization",
                                              "incidence_angle", "vertical_stripes", "depth_distortion",
                                              "interference",    "temporal_drift", "lateral_noise",
-                                             "intrinsics",      "covariate:intensity", "rows"};
+                                             "intrinsics",      "covariate:intensity", "rows",
+                                             "spatial_correlation"};
   std::vector<std::string> names;
   for (const auto &e : effectCatalogue ())
   {
     names.push_back (e.name);
-    // Terms built from the data (named by the residual structure they take off: rows, or a
-    // covariate with a colon) have no generative form.
-    const bool structure = e.name == "rows" || e.name.find (':') != std::string::npos;
+    // Terms built from the data (named by the residual structure they take off: rows,
+    // spatial_correlation, or a covariate with a colon) have no generative form.
+    const bool structure =
+        e.name == "rows" || e.name == "spatial_correlation" || e.name.find (':') != std::string::npos;
     EXPECT_EQ (e.simulated, !structure) << e.name;
     EXPECT_EQ (e.parameters.empty (), !e.simulated) << e.name;
     for (const auto &p : e.parameters)

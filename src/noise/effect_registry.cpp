@@ -10,6 +10,7 @@
 #include <pcl_texlet/noise/effects/lateral_noise.h>
 #include <pcl_texlet/noise/effects/radial.h>
 #include <pcl_texlet/noise/effects/row_bands.h>
+#include <pcl_texlet/noise/effects/spatial_correlation.h>
 #include <pcl_texlet/noise/effects/temporal_drift.h>
 #include <pcl_texlet/noise/effects/vertical_stripes.h>
 
@@ -46,6 +47,7 @@ EffectRegistry::vocabulary ()
     // Terms built from the data, named by the structure they take off the residuals.
     r.add<effects::CovariateIntensity> ();
     r.add<effects::RowBands> ();
+    r.add<effects::SpatialCorrelation> ();
     return r;
   }();
   return registry;

@@ -128,6 +128,12 @@ NoiseModel::moments (const PixelContext &ctx) const
     if (row > 0.0)
       m.row_frame_variance_mm2 += frame;
     m.bias_mm += t->bias (ctx);
+    const double share = t->windowShare (ctx);
+    if (share > m.window_share) // one window: the strongest term's
+    {
+      m.window_share = share;
+      m.window_px = t->windowPx (ctx);
+    }
   }
   m.variance_mm2 = scaled * factor + unscaled;
   if (column_rate > 0.0 && m.column_variance_mm2 > 0.0)

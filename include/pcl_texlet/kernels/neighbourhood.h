@@ -48,6 +48,11 @@ struct Neighbourhood
   /** Whether the shared noise's lines are rows (horizontal bands) rather than columns; the disc
     * is symmetric under u <-> v, so everything else is the same. */
   bool lines_are_rows = false;
+  /** The part of each point's depth variance shared with its neighbours over a window (the
+    * matcher's correlation window, term spatial_correlation): points du, dv apart (their pixels)
+    * correlate by window_fraction tri(du) tri(dv), tri(d) = max(0, 1 - |d| / window_px). */
+  S window_fraction = S (0);
+  int window_px = 1; ///< that window's width, whole pixels (1 .. kMaxWindowPx)
 
   PCL_TEXLET_HD Vec3<S>
   point (int i) const { return {x[i], y[i], z[i]}; }
@@ -68,6 +73,8 @@ struct CentreNoise
   /** lines over which the correlation falls by e; infinite (as NoiseMoments'), or <= 0: no fall */
   double line_correlation_px = std::numeric_limits<double>::infinity ();
   bool lines_are_rows = false;      ///< Neighbourhood::lines_are_rows
+  double window_fraction = 0.0;     ///< Neighbourhood::window_fraction
+  double window_px = 1.0;           ///< Neighbourhood::window_px, before rounding
 };
 
 } // namespace kernels

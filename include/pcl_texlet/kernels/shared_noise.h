@@ -10,6 +10,12 @@
  * Jacobians J sums the SD-weighted Jacobians of each column, G_x, and takes the quadratic form
  * sum_x sum_x' a^|x - x'| G_x G_x' (lineForm()). With a = 1 that is (sum G)(sum G)': the
  * patch moves as a whole. Patches wider than kMaxSharedLines share it whole.
+ *
+ * Noise shared over a window (Neighbourhood::window_fraction, window_px = w): each point's part
+ * is the mean of white noise over the w x w window around its pixel, so points du, dv apart
+ * correlate by the windows' overlap, tri(du) tri(dv) with tri(d) = max(0, 1 - |d| / w), and the
+ * propagation takes the quadratic form sum_i sum_j tri tri G_i G_j' over pairs of points
+ * (windowForm()). Monte Carlo draws the white noise on the cells and box-filters it (WindowDraw).
  */
 #pragma once
 
@@ -91,11 +97,106 @@ lineForm (const S (*G)[dim], int count, S a, S *out)
   }
 }
 
+/** \brief Widest window of shared noise resolved, pixels: wider ones count as this wide. */
+constexpr int kMaxWindowPx = 15;
+
+/** \brief Most points whose window-shared noise is resolved pair by pair: a bounding box of
+  * kMaxSharedLines x kMaxSharedLines pixels (a disc of radius 15 px). Larger discs count the
+  * window's part as independent noise whose variance the window multiplies by windowInflation()
+  * (exact far from the disc's rim).
+  */
+constexpr int kMaxWindowPoints = kMaxSharedLines * kMaxSharedLines;
+
+/** \brief Whether the window-shared noise of \a nb is resolved (it has some, and the points'
+  * bounding box fits kMaxSharedLines x kMaxSharedLines); the box's corner and size.
+  */
+template <typename S> PCL_TEXLET_HD bool
+windowBox (const Neighbourhood<S> &nb, int &u0, int &v0, int &nu, int &nv)
+{
+  if (!(nb.window_fraction > S (0)) || !nb.pixel || nb.width <= 0 || nb.count == 0)
+    return false;
+  int ulo = nb.pixel[0] % nb.width, uhi = ulo, vlo = nb.pixel[0] / nb.width, vhi = vlo;
+  for (int k = 1; k < nb.count; ++k)
+  {
+    const int u = nb.pixel[k] % nb.width, v = nb.pixel[k] / nb.width;
+    ulo = u < ulo ? u : ulo;
+    uhi = u > uhi ? u : uhi;
+    vlo = v < vlo ? v : vlo;
+    vhi = v > vhi ? v : vhi;
+  }
+  u0 = ulo;
+  v0 = vlo;
+  nu = uhi - ulo + 1;
+  nv = vhi - vlo + 1;
+  return nu <= kMaxSharedLines && nv <= kMaxSharedLines;
+}
+
+/** \brief Sum of tri(du) tri(dv) over every pixel offset: (sum over |d| < w of 1 - |d| / w)^2 = w^2. */
+template <typename S> PCL_TEXLET_HD S
+windowInflation (const Neighbourhood<S> &nb)
+{
+  return S (nb.window_px) * S (nb.window_px);
+}
+
+/** \brief The quadratic form sum_i sum_j tri(u_i - u_j) tri(v_i - v_j) G_i G_j' of the points'
+  * \a G (6 values each; windowed part of the noise, shared_noise.h), packed (upper triangle by
+  * rows) into \a out. \a u, \a v: the points' pixel coordinates.
+  */
+template <typename S> PCL_TEXLET_HD void
+windowForm (const S (*G)[6], const int *u, const int *v, int count, int window_px, S out[21])
+{
+  for (int k = 0; k < 21; ++k)
+    out[k] = S (0);
+  const S inv_w = S (1) / S (window_px);
+  for (int i = 0; i < count; ++i)
+  {
+    S h[6] = {S (0), S (0), S (0), S (0), S (0), S (0)}; // sum_j tri tri G_j
+    for (int j = 0; j < count; ++j)
+    {
+      const int du = u[j] > u[i] ? u[j] - u[i] : u[i] - u[j], dv = v[j] > v[i] ? v[j] - v[i] : v[i] - v[j];
+      if (du >= window_px || dv >= window_px)
+        continue;
+      const S k = (S (1) - S (du) * inv_w) * (S (1) - S (dv) * inv_w);
+      for (int d = 0; d < 6; ++d)
+        h[d] += k * G[j][d];
+    }
+    for (int a = 0, k = 0; a < 6; ++a)
+      for (int b = a; b < 6; ++b, ++k)
+        out[k] += G[i][a] * h[b];
+  }
+}
+
+/** \brief The windowed part of a Monte Carlo sample's noise (host only): normals on the cells of
+  * the disc's bounding box widened by w - 1 (Philox blocks kWindowNoiseBlock + cell / 4), their
+  * sum over each pixel's w x w window divided by w (unit variance). Off where windowBox() is false
+  * (the part then stays in SharedDraw's own noise, independent).
+  */
+template <typename S>
+struct WindowDraw
+{
+  bool on = false;
+  S root = S (0);
+  int u0 = 0, v0 = 0, nu = 0, nv = 0;
+  S b[kMaxSharedLines * kMaxSharedLines];
+
+  WindowDraw (const Neighbourhood<S> &nb, std::uint32_t seed, std::uint32_t texlet, int s);
+
+  /** \brief Point \a k's windowed standardised noise, times sqrt(window_fraction). */
+  S
+  noise (const Neighbourhood<S> &nb, int k) const
+  {
+    if (!on)
+      return S (0);
+    const int p = nb.pixel[k];
+    return root * b[(p / nb.width - v0) * nu + (p % nb.width - u0)];
+  }
+};
+
 /** \brief Philox block of the shared normals: beyond any disc's point blocks. */
 constexpr std::uint32_t kSharedNoiseBlock = 0x40000000u;
 
 /** \brief The shared part of a Monte Carlo sample's noise: a point's standardised noise is
-  * sqrt(1 - rho) g + sqrt(rho) e_x, its own normal g and its column's e_x, an AR(1) series
+  * sqrt(1 - rho - window) g + sqrt(rho) e_x (+ the window's part, WindowDraw), its own normal g and its column's e_x, an AR(1) series
   * across the columns (e_x = a e_(x-1) + sqrt(1 - a^2) h_x, the h from Philox blocks
   * kSharedNoiseBlock + x / 4), one e for a patch that shares it whole, so that two points'
   * noises correlate by rho a^|du|.
@@ -112,9 +213,13 @@ struct SharedDraw
   SharedDraw (const Neighbourhood<S> &nb, std::uint32_t seed, std::uint32_t texlet, int s, bool whole = false)
   {
     e[0] = S (0);
+    // The window's part is drawn by WindowDraw where it resolves it, else it stays in the own
+    // part (with the ring, whose pixels are not known, and a disc too wide).
+    int u0, v0, nu, nv;
+    const S window = !whole && windowBox (nb, u0, v0, nu, nv) ? nb.window_fraction : S (0);
+    own = std::sqrt (S (1) - nb.shared_fraction - window);
     if (!(nb.shared_fraction > S (0)))
       return;
-    own = std::sqrt (S (1) - nb.shared_fraction);
     root = std::sqrt (nb.shared_fraction);
     if (!whole)
       span = sharedLines (nb);
@@ -137,6 +242,46 @@ struct SharedDraw
     return own * S (g) + root * e[span.count > 0 ? nb.line (k) - span.first : 0];
   }
 };
+
+/** \brief Philox block of the window's normals: beyond the shared ones. */
+constexpr std::uint32_t kWindowNoiseBlock = 0x50000000u;
+
+template <typename S>
+WindowDraw<S>::WindowDraw (const Neighbourhood<S> &nb, std::uint32_t seed, std::uint32_t texlet, int s)
+{
+  if (!windowBox (nb, u0, v0, nu, nv))
+    return;
+  const int w = nb.window_px, cu = nu + w - 1, cv = nv + w - 1;
+  // cell (x, y) is the window's corner; pixel (x, y) of the box sums cells x .. x + w - 1
+  float cell[(kMaxSharedLines + kMaxWindowPx - 1) * (kMaxSharedLines + kMaxWindowPx - 1)];
+  float g[4];
+  for (int c = 0; c < cu * cv; ++c)
+  {
+    if ((c & 3) == 0)
+      normalQuad (seed, texlet, static_cast<std::uint32_t> (s), kWindowNoiseBlock + static_cast<std::uint32_t> (c >> 2), g);
+    cell[c] = g[c & 3];
+  }
+  S across[(kMaxSharedLines + kMaxWindowPx - 1) * kMaxSharedLines]; // sums along rows, cv x nu
+  for (int y = 0; y < cv; ++y)
+    for (int x = 0; x < nu; ++x)
+    {
+      S sum = S (0);
+      for (int d = 0; d < w; ++d)
+        sum += S (cell[y * cu + x + d]);
+      across[y * nu + x] = sum;
+    }
+  const S inv_w = S (1) / S (w);
+  for (int y = 0; y < nv; ++y)
+    for (int x = 0; x < nu; ++x)
+    {
+      S sum = S (0);
+      for (int d = 0; d < w; ++d)
+        sum += across[(y + d) * nu + x];
+      b[y * nu + x] = sum * inv_w;
+    }
+  root = std::sqrt (nb.window_fraction);
+  on = true;
+}
 
 } // namespace kernels
 } // namespace texlet

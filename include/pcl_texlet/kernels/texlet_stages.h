@@ -198,7 +198,8 @@ ransacThreshold (const FrameSettings<S> &fs, const CentreNoise &noise, const Nei
 
 /** \brief The noise the points of a disc share (\a s: the frame's centreNoise ()) into \a nb:
   * shared_fraction within [0, 1], and the correlation of adjacent lines (columns, or rows) with
-  * the points' pixel indices \a pixel in a frame of \a width.
+  * the points' pixel indices \a pixel in a frame of \a width; the window's share (its width
+  * rounded to whole pixels, at most kMaxWindowPx), the two shares together at most 1.
   */
 template <typename S> PCL_TEXLET_HD void
 discSharedNoise (const CentreNoise &s, const int *pixel, int width, Neighbourhood<S> &nb)
@@ -209,6 +210,11 @@ discSharedNoise (const CentreNoise &s, const int *pixel, int width, Neighbourhoo
   nb.pixel = pixel;
   nb.width = width;
   nb.lines_are_rows = s.lines_are_rows;
+  nb.window_fraction = static_cast<S> (s.window_fraction > 0.0 ? (s.window_fraction < 1.0 ? s.window_fraction : 1.0) : 0.0);
+  const double w = s.window_px < double (kMaxWindowPx) ? std::round (s.window_px) : double (kMaxWindowPx);
+  nb.window_px = w > 1.0 ? static_cast<int> (w) : 1;
+  if (nb.window_px == 1 || nb.shared_fraction + nb.window_fraction > S (1)) // a 1 px window shares nothing
+    nb.window_fraction = nb.window_px == 1 ? S (0) : S (1) - nb.shared_fraction;
 }
 
 /** \brief The inliers' mean colour as PCL's rgba word (alpha 255), 0 for a frame without colour. */

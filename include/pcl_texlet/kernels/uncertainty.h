@@ -71,17 +71,24 @@ analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k
   cs[3] += sd * j1; cs[4] += sd * j2; cs[5] += sd * a;
 }
 
-/** \brief Adds the shared part \a rho of the noise to covariances of independent noise:
-  * (1 - rho) times those (\a c, packed \a dim x \a dim) plus rho times the block of rows
-  * \a first .. first + dim - 1 of \a form (packed 6 x 6: the SD-weighted Jacobians' lineForm()),
-  * scaled by \a scale.
+/** \brief Adds the shared parts of the noise to covariances of independent noise \a c (packed
+  * \a dim x \a dim): the lines' part \a rho times the block of rows first .. first + dim - 1 of
+  * \a form (packed 6 x 6: the SD-weighted Jacobians' lineForm()) and the window's part
+  * \a window times that block of \a window_form (windowForm()), both scaled by \a scale, and
+  * what is left of \a c. Without a window form (null) the window's part stays independent with
+  * its variance multiplied by \a inflation (windowInflation()).
   */
 template <typename S, int dim> PCL_TEXLET_HD void
-addSharedNoise (S rho, const S form[21], int first, S scale, S *c)
+addSharedNoise (S rho, const S form[21], int first, S scale, S *c, S window = S (0), const S *window_form = nullptr,
+                S inflation = S (1))
 {
+  const S own = window_form ? S (1) - rho - window : S (1) - rho + window * (inflation - S (1));
   for (int i = 0, k = 0; i < dim; ++i)
     for (int j = i; j < dim; ++j, ++k)
-      c[k] = (S (1) - rho) * c[k] + rho * scale * form[packedIndex<6> (first + i, first + j)];
+    {
+      const int f = packedIndex<6> (first + i, first + j);
+      c[k] = own * c[k] + scale * (rho * form[f] + (window_form ? window * window_form[f] : S (0)));
+    }
 }
 
 /** \brief First-order covariances of a PCA or SVD fit of the inliers (mask) of \a nb, with P
@@ -114,10 +121,41 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     for (int j = 0; j < 3; ++j)
       cn[i][j] = S (0);
   }
-  const S rho = nb.shared_fraction;
-  S form[21]; // the shared part's quadratic form of the SD-weighted Jacobians (r, j1, j2, a)
+  const S rho = nb.shared_fraction, window = nb.window_fraction;
+  S form[21] = {}; // the shared part's quadratic form of the SD-weighted Jacobians (r, j1, j2, a)
+  S window_form[21];
+  bool window_resolved = false;
   const LineSpan columns = sharedLines (nb);
-  if (columns.count > 0) // the shared part by column (shared_noise.h)
+  int box_u0, box_v0, box_nu, box_nv;
+  if (windowBox (nb, box_u0, box_v0, box_nu, box_nv))
+  {
+#if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
+    // Every point's SD-weighted Jacobians kept, for the window's pairs (shared_noise.h).
+    S Gp[kMaxWindowPoints][6];
+    int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
+    for (int k = 0; k < nb.count; ++k)
+    {
+      for (int j = 0; j < 6; ++j)
+        Gp[k][j] = S (0);
+      pu[k] = nb.pixel[k] % nb.width;
+      pv[k] = nb.pixel[k] / nb.width;
+      analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k & 3],
+                          cn[k & 3], ct[k & 3], Gp[k]);
+    }
+    if (rho > S (0))
+    {
+      S G[kMaxSharedLines][6] = {};
+      const int lines = columns.count > 0 ? columns.count : 1;
+      for (int k = 0; k < nb.count; ++k)
+        for (int j = 0; j < 6; ++j)
+          G[columns.count > 0 ? nb.line (k) - columns.first : 0][j] += Gp[k][j];
+      lineForm<S, 6> (G, lines, columns.count > 0 ? nb.line_correlation : S (1), form);
+    }
+    windowForm (Gp, pu, pv, nb.count, nb.window_px, window_form);
+    window_resolved = true;
+#endif
+  }
+  else if (columns.count > 0) // the shared part by column (shared_noise.h)
   {
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
     S G[kMaxSharedLines][6] = {};
@@ -196,11 +234,14 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       lineForm<S, 6> (G, 1, S (1), form);
     }
   }
+  const S *wf = window_resolved ? window_form : nullptr;
+  const S inflation = windowInflation (nb);
+  const bool shared = rho > S (0) || window > S (0);
   if (centre.on)
   {
     S var_t = (ct[0] + ct[1]) + (ct[2] + ct[3]);
-    if (rho > S (0))
-      addSharedNoise<S, 1> (rho, form, 5, S (1), &var_t);
+    if (shared)
+      addSharedNoise<S, 1> (rho, form, 5, S (1), &var_t, window, wf, inflation);
     var_t *= centre.inv_n_ray * centre.inv_n_ray;
     const Vec3<S> &r = centre.ray;
     cov_p[0] = var_t * r.x * r.x; cov_p[1] = var_t * r.x * r.y; cov_p[2] = var_t * r.x * r.z;
@@ -211,13 +252,13 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     const S inv_n2 = inv_n * inv_n;
     for (int j = 0; j < 6; ++j)
       cov_p[j] = ((cp[0][j] + cp[1][j]) + (cp[2][j] + cp[3][j])) * inv_n2;
-    if (rho > S (0))
-      addSharedNoise<S, 3> (rho, form, 0, inv_n2, cov_p);
+    if (shared)
+      addSharedNoise<S, 3> (rho, form, 0, inv_n2, cov_p, window, wf, inflation);
   }
   for (int j = 0; j < 3; ++j)
     cov_n[j] = (cn[0][j] + cn[1][j]) + (cn[2][j] + cn[3][j]);
-  if (rho > S (0))
-    addSharedNoise<S, 2> (rho, form, 3, S (1), cov_n);
+  if (shared)
+    addSharedNoise<S, 2> (rho, form, 3, S (1), cov_n, window, wf, inflation);
 }
 
 /** \brief First-order covariances of normal averaging (P is the centre point), by central
@@ -385,13 +426,20 @@ inlierSample (const Neighbourhood<S> &nb, const unsigned char *mask, PlaneFitMet
   PlaneMoments<S> m;
   m.reset (P0);
   const SharedDraw<S> shared (nb, seed, texlet, s);
+#if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
+  const WindowDraw<S> windowed (nb, seed, texlet, s);
+#endif
   for (int k = 0; k < nb.count; ++k)
   {
     if ((k & 3) == 0)
       normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (k >> 2), g);
     if (!mask[k])
       continue;
-    const Vec3<S> p = (S (1) + shared.noise (g[k & 3], nb, k) * nb.sigma[k] / nb.z[k]) * nb.point (k);
+    S e = shared.noise (g[k & 3], nb, k);
+#if !defined(__CUDA_ARCH__)
+    e += windowed.noise (nb, k);
+#endif
+    const Vec3<S> p = (S (1) + e * nb.sigma[k] / nb.z[k]) * nb.point (k);
     if (method == PlaneFitMethod::SVD)
     {
       work[3 * m.n + 0] = p.x;

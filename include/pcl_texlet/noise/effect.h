@@ -184,7 +184,11 @@ enum LabNeeds : unsigned
     * pixel cannot tell from an unmodelled bias.
     */
   kNeedsRepeatedFrames = 16u,
-  kNeedsIntensity = 32u ///< colour frames (rgb/*.png): each pixel's grey level
+  kNeedsIntensity = 32u, ///< colour frames (rgb/*.png): each pixel's grey level
+  /** \brief The term changes no pixel's own moments, only how neighbours' noise correlates: the
+    * lab fits and scores it on the residuals' correlation between neighbouring pixels.
+    */
+  kNeedsNeighbourCorrelation = 64u
 };
 
 /** \brief One pixel as the simulator's generative hooks see it (the static maps' phase). */

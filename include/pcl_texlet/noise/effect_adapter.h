@@ -120,6 +120,12 @@ template <typename E>
 using ColumnCorrelationOp =
     decltype (E::columnCorrelationPx (std::declval<const double *> (), std::declval<Args<E>> (), PixelContext ()));
 template <typename E>
+using WindowShareOp =
+    decltype (E::windowShare (std::declval<const double *> (), std::declval<Args<E>> (), PixelContext ()));
+template <typename E>
+using WindowPxOp =
+    decltype (E::windowPx (std::declval<const double *> (), std::declval<Args<E>> (), PixelContext ()));
+template <typename E>
 using TransformOp = decltype (E::transformMoments (std::declval<const double *> (), std::declval<Args<E>> (),
                                                    PixelContext (), std::declval<double &> (),
                                                    std::declval<double &> ()));
@@ -259,6 +265,24 @@ public:
       return Effect::columnCorrelationPx (values_.data (), settings_, ctx);
     else
       return std::numeric_limits<double>::infinity ();
+  }
+
+  double
+  windowShare (const PixelContext &ctx) const override
+  {
+    if constexpr (detail::Has<Effect, detail::WindowShareOp>::value)
+      return Effect::windowShare (values_.data (), settings_, ctx);
+    else
+      return 0.0;
+  }
+
+  double
+  windowPx (const PixelContext &ctx) const override
+  {
+    if constexpr (detail::Has<Effect, detail::WindowPxOp>::value)
+      return Effect::windowPx (values_.data (), settings_, ctx);
+    else
+      return 1.0;
   }
 
   void

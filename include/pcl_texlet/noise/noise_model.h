@@ -42,6 +42,10 @@ struct NoiseMoments
     * column_correlation_px, for the terms with a row variance). */
   double row_correlation_px = std::numeric_limits<double>::infinity ();
   double sigma_mm = 0.0;              ///< total SD, sqrt of the three variances, never below the floor
+  /** The share of variance_mm2 that neighbours share over a window (spatial_correlation): two
+    * pixels du, dv apart correlate by window_share tri(du) tri(dv), tri(d) = max(0, 1 - |d| / window_px). */
+  double window_share = 0.0;
+  double window_px = 1.0; ///< that window's width, pixels
 
   /** \brief The column offsets' variance about their frame's offset, mm^2. */
   double
@@ -110,6 +114,16 @@ public:
     */
   virtual double
   rowCorrelationPx (const PixelContext &) const { return std::numeric_limits<double>::infinity (); }
+
+  /** \brief The share of the pixel's own variance (NoiseMoments::variance_mm2) that neighbours
+    * share over a window (NoiseMoments::window_share); 0 by default.
+    */
+  virtual double
+  windowShare (const PixelContext &) const { return 0.0; }
+
+  /** \brief That window's width, pixels (NoiseMoments::window_px); 1 by default. */
+  virtual double
+  windowPx (const PixelContext &) const { return 1.0; }
 
   /** \brief Applied last, to the bias and the independent variance of the depth before the
     * sensor reports it (disparity quantisation). Identity by default.

@@ -121,8 +121,9 @@ public:
   /** The model at a texlet's centre pixel (u, v) and depth z (metres), from one evaluation: its
     * depth SD (as modelSigma), and the part of its variance that the texlet's points share: the
     * variance shared by a column (or a row) of pixels within a frame (bands, frame offsets) over
-    * the whole, with its correlation length across those lines at this image's size. A model with
-    * both shares both along the larger one's lines (docs/texlet_covariances.md).
+    * the whole, with its correlation length across those lines at this image's size, and the part
+    * that neighbours share over a window. A model with both column and row variance shares both
+    * along the larger one's lines (docs/texlet_covariances.md).
     */
   kernels::CentreNoise
   centreNoise (int u, int v, double z) const
@@ -140,6 +141,8 @@ public:
     s.fraction = total > 0.0 && std::isfinite (shared) ? shared / total : 0.0;
     s.lines_are_rows = m.row_variance_mm2 > m.column_variance_mm2;
     s.line_correlation_px = s.lines_are_rows ? m.row_correlation_px : m.column_correlation_px;
+    s.window_fraction = total > 0.0 ? m.window_share * m.variance_mm2 / total : 0.0;
+    s.window_px = m.window_px;
     return s;
   }
 
