@@ -44,8 +44,9 @@ proofs='^ModelLabProof[.](FindsQuantisation|FindsVertical|FindsIncidence|FindsIn
 proofs+='|^ModelLabIndependentProof[.](FindsQuantisation|FindsVertical|FindsIncidence|FindsInterference|FindsADrift|FindsDepth|Nothing|FindsDisparityQuantization$)'
 # Of the residual diagnostics' cases (the same code on other walls) the clean walls run here; of the
 # terms built from the data, the case without colour frames; of the texlets' banded walls, the
-# column stripes (the rows run the same kernels along the other axis).
-proofs+='|^ResidualDiagnostics[.](Finds|StripesInTheModel|DriftInTheModel)|^DataDrivenTerms[.](IntensityTermExplains|RowTermExplains)|^TexletCovariances[.]RowBands'
+# column stripes (the rows run the same kernels along the other axis; the window's kernels run
+# here in PcaSampler.WindowCorrelatedNoise..., the lab's window fit in DataDrivenTerms.WindowTerm...).
+proofs+='|^ResidualDiagnostics[.](Finds|StripesInTheModel|DriftInTheModel)|^DataDrivenTerms[.](IntensityTermExplains|RowTermExplains)|^TexletCovariances[.](RowBands|WindowCorrelation)'
 # Of the single-frame sets, the generator's distortion (the simulator's and the clean walls run the
 # same single-frame code).
 proofs+='|^ModelLabFewFrames[.](SingleFrameWallsOfTheSimulator|CleanSingleFrame)'

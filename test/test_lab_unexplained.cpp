@@ -158,6 +158,42 @@ TEST (DataDrivenTerms, RowTermExplainsTheBands)
       EXPECT_FALSE (s.significant) << s.words;
 }
 
+// A term built from the data: noise shared over a window (spatial_correlation). On walls whose
+// white noise is averaged over 9 x 9 pixels (three walls of 12 frames, seeds the diagnostics'
+// test does not use) the lab
+// ranks it first and significant, fits a window of about 9 px sharing nearly all the noise, and
+// the diagnostics of the model with it no longer list the correlation.
+TEST (DataDrivenTerms, WindowTermExplainsTheCorrelation)
+{
+  lab::ModelLab lab{lab::LabSettings ()};
+  const std::vector<WallPose> three = {walls ()[0], walls ()[2], walls ()[4]};
+  for (const auto &r : pcl_texlet_test::generatedWalls (three, {"correlated"}, 1081, 12, 320))
+    lab.addRecording (r);
+  const std::vector<lab::Candidate> candidates = lab.rankCandidates (NoiseModel::paper ());
+  for (const auto &c : candidates)
+    std::cout << "  " << c.effect << ": gain " << c.gain << " threshold " << c.threshold << ", " << c.effect_shows_in
+              << " error " << 100.0 * c.effect_size << " % removed" << (c.significant ? ", significant" : "") << "\n";
+  ASSERT_FALSE (candidates.empty ());
+  EXPECT_EQ (candidates.front ().effect, "spatial_correlation");
+  EXPECT_TRUE (candidates.front ().significant);
+  const NoiseModel model = lab.addEffect (NoiseModel::paper (), "spatial_correlation");
+  const std::vector<double> p = model.find ("spatial_correlation")->parameters ();
+  std::cout << "spatial_correlation: share " << p[0] << ", window " << p[1] << " px\n";
+  EXPECT_GT (p[0], 0.8) << "share";
+  EXPECT_NEAR (p[1], 9.0, 1.0) << "window_px";
+  const lab::ResidualDiagnostics d = lab::diagnoseResiduals (lab, model);
+  for (const auto &c : d.correlations)
+  {
+    std::cout << "  correlation along " << c.along << ", measured / model's replicas:";
+    for (std::size_t k = 0; k < c.measured.size (); ++k)
+      std::cout << " " << c.measured[k] << "/" << c.model[k];
+    std::cout << "\n";
+  }
+  for (const auto &s : d.structures)
+    if (s.structure == "spatial_correlation")
+      EXPECT_FALSE (s.significant) << s.words;
+}
+
 // Without colour frames the grey level is unknown: the term is not applicable, and a model
 // holding it predicts what the model without it does.
 TEST (DataDrivenTerms, IntensityTermNeedsColourFrames)

@@ -93,7 +93,7 @@ synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<
         mean += frameBias (no_grid, ctx, t) / J;
       pred = frameBias (no_grid, ctx, f.frame) / J - mean / d.frame_list[f.rec].size ();
     }
-    const double v = pixelNoiseIn (f.noise, mv.quantised, s) + m.frame_variance_mm2 / (J * J);
+    const double v = frameOffsetVariance (mv, f, m, J, s);
     f.D = pred + gauss (rng) * std::sqrt (v);
   }
   return out;

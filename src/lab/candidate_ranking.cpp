@@ -9,9 +9,11 @@
 #include "effect_size.h"
 #include "lab_data.h"
 #include "nll_fit.h"
+#include "spatial_correlation_fit.h"
 #include "static_fit.h"
 
 #include <pcl_texlet/common/parallel_for.h>
+#include <pcl_texlet/lab/residual_diagnostics.h>
 #include <pcl_texlet/noise/effect_registry.h>
 #include <pcl_texlet/noise/noise_terms.h>
 
@@ -138,7 +140,7 @@ ModelLab::rankCandidates (const NoiseModel &current) const
   std::vector<Fit> fits;
   for (int set = 0; set < S; ++set)
     for (int k = 0; k < static_cast<int> (out.size ()); ++k)
-      if (out[k].applicable)
+      if (out[k].applicable && !fittedToNeighbourPairs (out[k].effect))
       {
         fits.push_back ({set, k, false, NoiseModel (), 0.0});
         if (effectInfo (out[k].effect).quantises &&
@@ -204,6 +206,40 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample, " +
          c.effect_shows_in + " error " + std::to_string (100.0 * c.effect_size) + " % of its squared error removed where it shows");
   });
+  // Terms of the neighbours' correlation: fitted on the even frames' neighbour pairs and scored
+  // on the odd frames' (the per-pixel halves cannot see them); the null: the same on the
+  // diagnostics' replicas of the current model.
+  std::unique_ptr<ResidualDiagnostics> pairs;
+  for (std::size_t k = 0; k < out.size (); ++k)
+  {
+    Candidate &c = out[k];
+    if (!c.applicable || !fittedToNeighbourPairs (c.effect))
+      continue;
+    if (!pairs)
+    {
+      say ("lab: neighbour pairs of the residuals under the current model, and of its replicas");
+      pairs = std::make_unique<ResidualDiagnostics> (diagnoseResiduals (*this, base));
+    }
+    const ModelCorrelation mc = modelCorrelation (*pairs);
+    const NeighbourPairs &data_pairs = pairs->neighbour_pairs[0];
+    const WindowFit fit = fitWindow (data_pairs, mc, 0);
+    c.gain = windowGain (data_pairs, mc, fit, 1);
+    null_gains[k].clear (); // the per-pixel bootstrap's slots, never filled for this term
+    for (std::size_t j = 1; j < pairs->neighbour_pairs.size (); ++j)
+    {
+      const NeighbourPairs &null_pairs = pairs->neighbour_pairs[j];
+      null_gains[k].push_back (windowGain (null_pairs, mc, fitWindow (null_pairs, mc, 0), 1));
+    }
+    c.model = withWindow (base, c.effect, fit);
+    c.metrics = evaluate (c.model, B, nullptr);
+    c.effect_size = windowEffect (data_pairs, mc, fit, 1, c.error_before_mm, c.error_after_mm);
+    c.effect_shows_in = "correlation";
+    c.effect_share = 1.0;
+    c.note = "fitted to the correlation of neighbouring pixels' residuals (even frames), scored on the odd frames' "
+             "pairs: share " + std::to_string (fit.share) + " over a " + std::to_string (fit.window_px) + " px window";
+    say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample, share " +
+         std::to_string (fit.share) + " over " + std::to_string (fit.window_px) + " px");
+  }
   for (std::size_t k = 0; k < out.size (); ++k)
   {
     Candidate &c = out[k];
@@ -217,7 +253,7 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     c.null_mean = mean;
     c.null_sd = g.size () > 1 ? std::sqrt (var / (g.size () - 1)) : 0.0;
     c.threshold = mean + settings_.null_sigmas * c.null_sd;
-    c.total_gain = c.gain * B.samples;
+    c.total_gain = c.gain * (fittedToNeighbourPairs (c.effect) && pairs ? pairs->neighbour_pairs[0].samples[1] : B.samples);
     c.statistically_significant = c.gain > c.threshold && c.gain > 0 && c.total_gain >= settings_.min_total_gain_nats;
     c.significant = c.statistically_significant && c.effect_size >= settings_.min_effect_size;
   }

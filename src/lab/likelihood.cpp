@@ -1,5 +1,6 @@
 #include "likelihood.h"
 
+#include <pcl_texlet/kernels/shared_noise.h>
 #include <pcl_texlet/kernels/structured_light.h>
 
 #include <algorithm>
@@ -47,7 +48,22 @@ lineOffsetVariance (const ModelView &mv, const LineStat &c, bool row, const Stat
   const NoiseMoments m = mv.without_grid.moments (c.ctx);
   const double J = kernels::depthPerDisparityMm (c.ctx.true_depth_mm, c.ctx.fb_px_m);
   const double shared = row ? m.rowWithinFrameMm2 () : m.columnWithinFrameMm2 ();
-  return shared / (J * J) + pixelNoiseIn (c.noise, mv.quantised, s);
+  return shared / (J * J) + pixelNoiseIn (c.noise, mv.quantised, s) * windowedNoiseFactor (m, 1);
+}
+
+double
+windowedNoiseFactor (const NoiseMoments &m, int dims)
+{
+  if (!(m.window_share > 0.0))
+    return 1.0;
+  const double w = std::round (std::min (m.window_px, double (kernels::kMaxWindowPx)));
+  return 1.0 + m.window_share * (std::pow (w, dims) - 1.0);
+}
+
+double
+frameOffsetVariance (const ModelView &mv, const FrameStat &f, const NoiseMoments &m, double J, const StaticState &s)
+{
+  return pixelNoiseIn (f.noise, mv.quantised, s) * windowedNoiseFactor (m, 2) + m.frame_variance_mm2 / (J * J);
 }
 
 double
@@ -73,7 +89,8 @@ objective (const ModelView &mv, const ModelLab::Data &d, const StaticState &s, b
   const bool timed = frameDependent (mv.model);
   std::vector<double> pred;
   int current = -1;
-  double J = 1, frame_var = 0;
+  double J = 1;
+  NoiseMoments m;
   for (std::size_t k = 0; k < d.frames.size (); ++k)
   {
     const FrameStat &f = d.frames[k];
@@ -81,9 +98,8 @@ objective (const ModelView &mv, const ModelLab::Data &d, const StaticState &s, b
     {
       current = f.rec;
       const PixelContext &ctx = d.rep[f.rec];
-      const NoiseMoments m = mv.without_grid.moments (ctx);
+      m = mv.without_grid.moments (ctx);
       J = kernels::depthPerDisparityMm (ctx.true_depth_mm, ctx.fb_px_m);
-      frame_var = m.frame_variance_mm2;
       pred.assign (d.frame_list[f.rec].size (), 0.0);
       if (timed)
       {
@@ -99,7 +115,7 @@ objective (const ModelView &mv, const ModelLab::Data &d, const StaticState &s, b
     }
     const auto &list = d.frame_list[f.rec];
     const std::size_t j = std::lower_bound (list.begin (), list.end (), f.frame) - list.begin ();
-    const double v = pixelNoiseIn (f.noise, mv.quantised, s) + frame_var / (J * J);
+    const double v = frameOffsetVariance (mv, f, m, J, s);
     const double e = f.D - pred[j];
     L += 0.5 * std::log (kTwoPi * v) + e * e / (2 * v) + std::log (J);
   }

@@ -32,10 +32,26 @@ pixelNoiseIn (const BinWeights &w, bool quantised, const StaticState &s);
 
 /** Predicted variance (disparity px^2) of a column's (\a row: a row's) mean offset about its
   * frame's mean: the model's column-shared (row-shared) variance less the part shared by the whole
-  * frame (taken out with the frame's mean), plus the noise of the mean of the line's pixels.
+  * frame (taken out with the frame's mean), plus the noise of the mean of the line's pixels (more
+  * where neighbours share it over a window, windowedNoiseFactor()).
   */
 double
 lineOffsetVariance (const ModelView &mv, const LineStat &c, bool row, const StaticState &s);
+
+/** How much more the pixels' own noise reaches a mean over a line (\a dims 1) or a whole frame
+  * (2) of pixels when a share of it is shared over a window (NoiseMoments::window_share,
+  * window_px = w): 1 + share (w^dims - 1), a pixel's summed correlation with the others over the
+  * window, far from the image's border.
+  */
+double
+windowedNoiseFactor (const NoiseMoments &m, int dims);
+
+/** Predicted variance (disparity px^2) of a frame's mean offset \a f: the model's frame-shared
+  * variance (\a m at the recording's central pixel, J its depth per disparity) plus the noise of
+  * the mean of the frame's pixels.
+  */
+double
+frameOffsetVariance (const ModelView &mv, const FrameStat &f, const NoiseMoments &m, double J, const StaticState &s);
 
 /** The NLL (sum, not per sample) of a half under a model, on bins; without \a with_static, the
   * temporal parts only (the pixels' means left out).

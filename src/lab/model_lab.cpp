@@ -5,9 +5,11 @@
 #include "likelihood.h"
 #include "nll_fit.h"
 #include "recorded_resolution.h"
+#include "spatial_correlation_fit.h"
 #include "static_fit.h"
 
 #include <pcl_texlet/kernels/structured_light.h>
+#include <pcl_texlet/lab/residual_diagnostics.h>
 #include <pcl_texlet/noise/effect_registry.h>
 #include <pcl_texlet/noise/noise_terms.h>
 
@@ -314,6 +316,14 @@ ModelLab::addEffect (const NoiseModel &current, const std::string &effect) const
   const std::shared_ptr<const Data> data_all = data (Half::all, current);
   const Data &d = *data_all;
   NoiseModel base = fitOn (current, d, recordings_, settings_);
+  if (fittedToNeighbourPairs (effect)) // to every frame's neighbour pairs (spatial_correlation_fit.h)
+  {
+    const ResidualDiagnostics pairs = diagnoseResiduals (*this, base);
+    const ModelCorrelation without = modelCorrelation (pairs);
+    const WindowFit first = fitWindow (pairs.neighbour_pairs[0], without, -1);
+    const ModelCorrelation with = modelCorrelation (diagnoseResiduals (*this, withWindow (base, effect, first)));
+    return withWindow (base, effect, calibrateWindow (pairs.neighbour_pairs[0], without, with, first));
+  }
   StaticState s;
   const double nested = fitObjective (base, d, recordings_, s);
   return fitWithEffect (base, current, effect, d, recordings_, settings_, nested);

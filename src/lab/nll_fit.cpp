@@ -3,6 +3,7 @@
 #include "likelihood.h"
 #include "quantisation_lattice.h"
 #include "setting_combinations.h"
+#include "spatial_correlation_fit.h"
 
 #include <pcl_texlet/noise/effect_registry.h>
 #include <pcl_texlet/noise/noise_terms.h>
@@ -43,8 +44,10 @@ parameterMap (const NoiseModel &m, int only_term = -1)
   for (std::size_t t = 0; t < m.terms ().size (); ++t)
   {
     const auto &term = m.terms ()[t];
-    // A linear bias term is fitted by least squares, not here.
-    if (term->linearBiasSupport () > 0 || (only_term >= 0 && static_cast<int> (t) != only_term))
+    // A linear bias term is fitted by least squares, not here; a term of the neighbours'
+    // correlation changes no pixel's likelihood (spatial_correlation_fit.h).
+    if (term->linearBiasSupport () > 0 || (only_term >= 0 && static_cast<int> (t) != only_term) ||
+        fittedToNeighbourPairs (term->name ()))
       continue;
     const auto values = term->parameters ();
     for (std::size_t k = 0; k < values.size (); ++k)

@@ -9,6 +9,7 @@
 #include "lab_data.h"
 #include "likelihood.h"
 
+#include <pcl_texlet/kernels/shared_noise.h>
 #include <pcl_texlet/kernels/structured_light.h>
 
 #include <pcl/exceptions.h>
@@ -55,6 +56,8 @@ struct RecordingModel
   std::vector<float> drift;             // per frame: disparity offset (px) of the model's drift, mean 0
   std::vector<float> J;                 // depth per disparity, mm/px
   double a = 1, a_row = 1;              // correlation of adjacent columns' (rows') offsets
+  std::vector<float> window;            // share of the independent part shared over a window (spatial_correlation)
+  int window_px = 1;                    // that window's width, whole pixels
 };
 
 /** The statistics, summed over recordings. */
@@ -64,6 +67,7 @@ struct Stats
   double frame_lag1 = 0, frame_lag0 = 0; // the frame offsets' products one frame apart, and squares
   std::vector<double> acf_num[3], acf_pairs[3]; // rows, columns, time; per lag
   double var = 0, var_n = 0;                    // of the residuals after the offsets
+  NeighbourPairs pairs;                         // the same pairs along rows and columns, by half
   std::vector<std::vector<double>> bin_v, bin_b, bin_n; // per covariate, per bin
 
   void
@@ -74,6 +78,13 @@ struct Stats
       acf_num[d].assign (lags, 0.0);
       acf_pairs[d].assign (lags, 0.0);
     }
+    for (int h = 0; h < 2; ++h)
+      for (int d = 0; d < 2; ++d)
+      {
+        pairs.products[h][d].assign (lags, 0.0);
+        pairs.squares[h][d].assign (lags, 0.0);
+        pairs.count[h][d].assign (lags, 0.0);
+      }
     bin_v.clear ();
     bin_b.clear ();
     bin_n.clear ();
@@ -314,8 +325,17 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
         x -= static_cast<float> ((row[v] + col[u]) * w[i]);
         s.var += double (x) * x;
         s.var_n += 1;
+        s.pairs.samples[t & 1] += 1;
         vsum[i] += double (x) * x;
       }
+    const int half = t & 1;
+    auto pair = [&] (int d, int k, double x, double y) {
+      s.acf_num[d][k - 1] += x * y;
+      s.acf_pairs[d][k - 1] += 1;
+      s.pairs.products[half][d][k - 1] += x * y;
+      s.pairs.squares[half][d][k - 1] += x * x + y * y;
+      s.pairs.count[half][d][k - 1] += 1;
+    };
     for (int v = 0; v < H; ++v)
     {
       const float *line = f + static_cast<std::size_t> (v) * W;
@@ -325,18 +345,12 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
           continue;
         for (int k = 1; k <= lags && u + k < W; ++k)
           if (std::isfinite (line[u + k]))
-          {
-            s.acf_num[0][k - 1] += double (line[u]) * line[u + k];
-            s.acf_pairs[0][k - 1] += 1;
-          }
+            pair (0, k, line[u], line[u + k]);
         for (int k = 1; k <= lags && v + k < H; ++k)
         {
           const float below = line[u + static_cast<std::size_t> (k) * W];
           if (std::isfinite (below))
-          {
-            s.acf_num[1][k - 1] += double (line[u]) * below;
-            s.acf_pairs[1][k - 1] += 1;
-          }
+            pair (1, k, line[u], below);
         }
       }
     }
@@ -433,15 +447,51 @@ replicaDepths (const RecordingModel &rm, std::mt19937_64 &rng, std::vector<float
     for (float &x : line)
       x = (x - centre) * scale;
   };
+  // Noise shared over a window: white noise on the cells, its mean over each pixel's window
+  // (times the window's width: unit variance), as kernels::WindowDraw draws it.
+  const int w = rm.window_px, H = m.height, CW = W + w - 1;
+  std::vector<float> cell, across, window;
+  if (w > 1)
+  {
+    cell.resize (static_cast<std::size_t> (CW) * (H + w - 1));
+    across.resize (static_cast<std::size_t> (W) * (H + w - 1));
+    window.resize (n);
+  }
   for (int t = 0; t < m.frames; ++t)
   {
     const float F = normal (rng);
     drawLine (rm.a, col);
     drawLine (rm.a_row, row);
+    if (w > 1)
+    {
+      for (float &c : cell)
+        c = normal (rng);
+      for (int y0 = 0; y0 < H + w - 1; ++y0)
+        for (int x = 0; x < W; ++x)
+        {
+          float sum = 0;
+          for (int d = 0; d < w; ++d)
+            sum += cell[static_cast<std::size_t> (y0) * CW + x + d];
+          across[static_cast<std::size_t> (y0) * W + x] = sum;
+        }
+      for (int v = 0; v < H; ++v)
+        for (int x = 0; x < W; ++x)
+        {
+          float sum = 0;
+          for (int d = 0; d < w; ++d)
+            sum += across[static_cast<std::size_t> (v + d) * W + x];
+          window[static_cast<std::size_t> (v) * W + x] = sum / static_cast<float> (w);
+        }
+    }
     for (std::size_t i = 0; i < n; ++i)
       if (m.at (t, i) > 0 && std::isfinite (rm.sd[i]))
-        y[t * n + i] = std::round (rm.mean[i] + rm.own[i] * normal (rng) + rm.column[i] * col[i % W] +
-                                   rm.row[i] * row[i / W] + rm.frame[i] * F);
+      {
+        float own = normal (rng);
+        if (w > 1 && rm.window[i] > 0)
+          own = std::sqrt (1.0f - rm.window[i]) * own + std::sqrt (rm.window[i]) * window[i];
+        y[t * n + i] = std::round (rm.mean[i] + rm.own[i] * own + rm.column[i] * col[i % W] + rm.row[i] * row[i / W] +
+                                   rm.frame[i] * F);
+      }
   }
 }
 
@@ -518,6 +568,7 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
     rm.row.assign (n, 0.0f);
     rm.frame.assign (n, 0.0f);
     rm.J.assign (n, 0.0f);
+    rm.window.assign (n, 0.0f);
     double rate = 0, weight = 0, row_rate = 0, row_weight = 0;
     std::size_t centre = 0;
     double best = std::numeric_limits<double>::infinity ();
@@ -534,7 +585,13 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
       rm.frame[i] = static_cast<float> (std::sqrt (std::max (0.0, frame2)));
       rm.column[i] = static_cast<float> (std::sqrt (column2));
       rm.row[i] = static_cast<float> (std::sqrt (row2));
-      rm.own[i] = static_cast<float> (std::sqrt (std::max (0.0, sd2 - shared2)));
+      // The independent part before the recording's rounding: the replicas round as it does.
+      rm.own[i] = static_cast<float> (std::sqrt (std::max (0.0, std::min (sd2 - shared2, mo.variance_mm2))));
+      if (mo.window_share > 0 && rm.own[i] > 0)
+      {
+        rm.window[i] = static_cast<float> (std::min (1.0, mo.window_share));
+        rm.window_px = std::max (rm.window_px, static_cast<int> (std::lround (std::min (mo.window_px, double (kernels::kMaxWindowPx)))));
+      }
       if (row2 > 0 && std::isfinite (mo.row_correlation_px) && mo.row_correlation_px > 0)
         row_rate += row2 / mo.row_correlation_px;
       row_weight += row2;
@@ -704,6 +761,11 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
               cov[c].words + ": mean square over its bins " + fixed (u.strength, 3) + " beyond the model (variance " +
               fixed (v.strength, 3) + ", bias " + fixed (b.strength, 3) + ")";
     out.structures.push_back (u);
+  }
+  for (const Stats &st : stats)
+  {
+    out.neighbour_pairs.push_back (st.pairs);
+    out.neighbour_pairs.back ().variance = st.var / std::max (st.var_n, 1.0);
   }
   std::stable_sort (out.structures.begin (), out.structures.end (),
                     [] (const UnexplainedStructure &a, const UnexplainedStructure &b) { return a.strength > b.strength; });

@@ -861,10 +861,15 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     const auto &c = s.candidates[k];
     h << "<tr><td>" << k + 1 << "</td><td>" << c.effect << "</td>";
     if (c.applicable)
+    {
       h << "<td>" << fmt (c.gain) << "</td><td>" << fmt (c.threshold, 3) << "</td><td>" << fmt (100.0 * c.effect_size, 3)
         << " % of the " << c.effect_shows_in << " error's mean square (RMS " << fmt (c.error_before_mm, 3) << " to "
-        << fmt (c.error_after_mm, 3) << " mm over " << fmt (100.0 * c.effect_share, 2)
-        << (c.effect_shows_in == "offsets" ? " % of lines)" : " % of pixels)") << "</td><td"
+        << fmt (c.error_after_mm, 3);
+      if (c.effect_shows_in == "correlation") // of neighbours' residuals, dimensionless, over every lag
+        h << " over lags 1 to " << ResidualDiagnosticsSettings ().max_lag << " along rows and columns)";
+      else
+        h << " mm over " << fmt (100.0 * c.effect_share, 2) << (c.effect_shows_in == "offsets" ? " % of lines)" : " % of pixels)");
+      h << "</td><td"
         << (c.significant ? " class=\"sig\">yes" : (c.statistically_significant ? ">no (too small)" : ">no"))
         << "</td><td>" << sdText (c.metrics.sd_rmse_mm) << "</td><td>"
         << fmt (c.metrics.bias_rmse_mm) << "</td><td>" << fmt (c.metrics.nll) << "</td><td>"
@@ -872,6 +877,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
                 ? fmt (c.metrics.texlets.medianRatioP (), 3) + ", " + fmt (c.metrics.texlets.medianRatioN (), 3)
                 : std::string ("-"))
         << "</td>";
+    }
     else
       h << "<td colspan=\"8\">not testable: " << escape (c.note) << "</td>";
     h << "<td>" << escape (c.signature) << "</td><td>" << escape (c.physics) << "</td></tr>\n";

@@ -56,12 +56,28 @@ struct ResidualCorrelation
   std::vector<double> measured, model;
 };
 
+/** \brief Sums over pairs of residuals (after the frame, row and column offsets) one lag apart
+  * along rows (direction 0) and columns (1), lags 1 .. max_lag, in even (half 0) and odd (1)
+  * frames: what the lab fits the term spatial_correlation to and scores it on
+  * (spatial_correlation_fit.h). Indices [half][direction][lag - 1].
+  */
+struct NeighbourPairs
+{
+  std::vector<double> products[2][2]; ///< sum of x y
+  std::vector<double> squares[2][2];  ///< sum of x^2 + y^2
+  std::vector<double> count[2][2];    ///< pairs
+  double samples[2] = {0, 0};         ///< residuals in each half
+  double variance = 1;                ///< the residuals' variance (x / sqrt(variance) has unit variance)
+};
+
 /** \brief What diagnoseResiduals() found. */
 struct ResidualDiagnostics
 {
   std::vector<UnexplainedStructure> structures; ///< every structure tested, strongest first
   std::vector<ResidualCorrelation> correlations; ///< along rows, columns, time
   double seconds = 0;                           ///< wall time it took
+  /** The neighbour pairs of the data (0) and of each of the model's replicas (1 ..). */
+  std::vector<NeighbourPairs> neighbour_pairs;
 
   /** \brief The strongest significant structure, or null when none is. */
   const UnexplainedStructure *
