@@ -17,6 +17,7 @@
 
 #include <pcl_texlet/common/atomic_file.h>
 #include <pcl_texlet/features/texlet_parameters.h>
+#include <pcl_texlet/io/noise_model_io.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
 
 #include <CLI/CLI.hpp>
@@ -91,6 +92,8 @@ run (int argc, char **argv)
   app.add_option ("--table1-repetitions", o.table1_reps, "timed repetitions per Table 1 row")->capture_default_str ();
   app.add_option ("--scaling-repetitions", o.scaling_reps, "timed repetitions per scaling point")->capture_default_str ();
   app.add_option ("--fig8-runs", o.fig8_runs, "noisy planes per noise level")->capture_default_str ();
+  app.add_option ("--noise-model", o.noise_model,
+                  "the texlets' depth noise model YAML (e.g. pcl_texlet_lab's model.yaml; default: the paper's Eq. 4)");
   app.add_option ("--json", o.json_path, "write every figure measured to this JSON file");
   app.add_option ("--data-dir", o.data_dir, "write gnuplot data files (timing, fig8, scaling) into this folder");
   app.add_flag ("-q,--quiet", o.quiet, "no progress lines");
@@ -117,6 +120,8 @@ run (int argc, char **argv)
   p.ransac_iterations = o.setup.iterations;
   p.samples = o.setup.samples;
   pcl::texlet::validate (p);
+  if (!o.noise_model.empty ())
+    o.setup.noise = pcl::texlet::loadNoiseModelYaml (o.noise_model);
   if (!o.json_path.empty () && !fs::is_directory (fs::absolute (o.json_path).parent_path ()))
     throw InputError ("the folder that should hold --json '" + o.json_path + "' does not exist");
   if (!o.data_dir.empty () && !fs::is_directory (o.data_dir))
@@ -130,7 +135,8 @@ run (int argc, char **argv)
   j["settings"] = {{"spacing", o.setup.spacing}, {"radius", o.setup.radius},
                    {"disc_px", pcl::texlet::kernels::pixelDiscSize (o.setup.radius)},
                    {"ransac_iterations", o.setup.iterations}, {"montecarlo_samples", o.setup.samples},
-                   {"threads", o.setup.threads}};
+                   {"threads", o.setup.threads},
+                   {"noise_model", o.noise_model.empty () ? std::string ("paper") : o.noise_model}};
   const std::vector<MethodSpec> methods = comparisonMethods (fits, o.organized_knn);
   std::cout << "machine: " << cpuModel () << ", " << std::thread::hardware_concurrency () << " hardware threads; "
             << o.setup.threads << " threads used; load average " << fmt (loadAverage (), 2) << "\n";

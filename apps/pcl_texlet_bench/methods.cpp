@@ -72,6 +72,7 @@ public:
     est_.setParameters (p);
     est_.setNumberOfThreads (setup.threads);
     est_.setCameraModel (camera);
+    est_.setNoiseModel (setup.noise);
   }
 
   void

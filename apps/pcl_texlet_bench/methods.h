@@ -6,6 +6,7 @@
 
 #include <pcl_texlet/camera/camera_model.h>
 #include <pcl_texlet/features/texlet_parameters.h>
+#include <pcl_texlet/noise/noise_model.h>
 
 #include <pcl/pcl_base.h> // pcl::IndicesPtr
 #include <pcl/point_cloud.h>
@@ -52,6 +53,9 @@ struct Setup
   int samples = 50;
   unsigned threads = 2;
   double ransac_threshold_m = 0.0; ///< 0: from the noise model (the library's default)
+  /** The texlets' depth noise model (--noise-model; the paper's by default): a model with shared
+    * or windowed noise costs its propagation (docs/benchmarks.md). */
+  pcl::texlet::NoiseModel noise = pcl::texlet::NoiseModel::paper ();
 };
 
 /** \brief What a method gave at each centre, after its last run. */

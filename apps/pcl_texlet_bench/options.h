@@ -30,6 +30,7 @@ struct Options
   bool timing = true, accuracy = true, table1 = false, fig8 = false, scaling = false;
   int table1_reps = 5, scaling_reps = 5, fig8_runs = 100;
   std::string json_path, data_dir;
+  std::string noise_model; ///< --noise-model YAML, or empty: the paper's
   bool quiet = false;
 };
 

@@ -14,8 +14,8 @@
  * Noise shared over a window (Neighbourhood::window_fraction, window_px = w): each point's part
  * is the mean of white noise over the w x w window around its pixel, so points du, dv apart
  * correlate by the windows' overlap, tri(du) tri(dv) with tri(d) = max(0, 1 - |d| / w), and the
- * propagation takes the quadratic form sum_i sum_j tri tri G_i G_j' over pairs of points
- * (windowForm()). Monte Carlo draws the white noise on the cells and box-filters it (WindowDraw).
+ * propagation takes the quadratic form sum_i sum_j tri tri G_i G_j' (windowForm(), by the
+ * windows' sums). Monte Carlo draws the white noise on the cells and box-filters it (WindowDraw).
  */
 #pragma once
 
@@ -140,30 +140,47 @@ windowInflation (const Neighbourhood<S> &nb)
 
 /** \brief The quadratic form sum_i sum_j tri(u_i - u_j) tri(v_i - v_j) G_i G_j' of the points'
   * \a G (6 values each; windowed part of the noise, shared_noise.h), packed (upper triangle by
-  * rows) into \a out. \a u, \a v: the points' pixel coordinates.
+  * rows) into \a out. \a u, \a v: the points' pixels, inside the box of corner (\a u0, \a v0)
+  * and size \a nu x \a nv (windowBox()), at most one point per pixel. Since tri tri is the two
+  * pixels' windows' overlap over w^2, the form is (1 / w^2) sum over the windows c touching the box
+  * of H_c H_c', H_c the sum of G over window c: sliding sums along the rows, then the columns.
   */
 template <typename S> PCL_TEXLET_HD void
-windowForm (const S (*G)[6], const int *u, const int *v, int count, int window_px, S out[21])
+windowForm (const S (*G)[6], const int *u, const int *v, int count, int u0, int v0, int nu, int nv, int w,
+            S out[21])
 {
   for (int k = 0; k < 21; ++k)
     out[k] = S (0);
-  const S inv_w = S (1) / S (window_px);
-  for (int i = 0; i < count; ++i)
+  int cell[kMaxSharedLines * kMaxSharedLines]; // the point at each pixel of the box, or -1
+  for (int c = 0; c < nu * nv; ++c)
+    cell[c] = -1;
+  for (int k = 0; k < count; ++k)
+    cell[(v[k] - v0) * nu + (u[k] - u0)] = k;
+  S row[kMaxSharedLines][6]; // each box row's sum over the window's columns x - w + 1 .. x
+  for (int y = 0; y < nv; ++y)
+    for (int d = 0; d < 6; ++d)
+      row[y][d] = S (0);
+  for (int x = 0; x < nu + w - 1; ++x)
   {
-    S h[6] = {S (0), S (0), S (0), S (0), S (0), S (0)}; // sum_j tri tri G_j
-    for (int j = 0; j < count; ++j)
+    for (int y = 0; y < nv; ++y)
     {
-      const int du = u[j] > u[i] ? u[j] - u[i] : u[i] - u[j], dv = v[j] > v[i] ? v[j] - v[i] : v[i] - v[j];
-      if (du >= window_px || dv >= window_px)
-        continue;
-      const S k = (S (1) - S (du) * inv_w) * (S (1) - S (dv) * inv_w);
+      const int in = x < nu ? cell[y * nu + x] : -1, gone = x >= w ? cell[y * nu + x - w] : -1;
       for (int d = 0; d < 6; ++d)
-        h[d] += k * G[j][d];
+        row[y][d] += (in >= 0 ? G[in][d] : S (0)) - (gone >= 0 ? G[gone][d] : S (0));
     }
-    for (int a = 0, k = 0; a < 6; ++a)
-      for (int b = a; b < 6; ++b, ++k)
-        out[k] += G[i][a] * h[b];
+    S H[6] = {S (0), S (0), S (0), S (0), S (0), S (0)}; // window (x, y): rows y - w + 1 .. y
+    for (int y = 0; y < nv + w - 1; ++y)
+    {
+      for (int d = 0; d < 6; ++d)
+        H[d] += (y < nv ? row[y][d] : S (0)) - (y >= w ? row[y - w][d] : S (0));
+      for (int a = 0, k = 0; a < 6; ++a)
+        for (int b = a; b < 6; ++b, ++k)
+          out[k] += H[a] * H[b];
+    }
   }
+  const S inv_w2 = S (1) / (S (w) * S (w));
+  for (int k = 0; k < 21; ++k)
+    out[k] *= inv_w2;
 }
 
 /** \brief The windowed part of a Monte Carlo sample's noise (host only): normals on the cells of

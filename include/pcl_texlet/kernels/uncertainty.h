@@ -151,7 +151,7 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
           G[columns.count > 0 ? nb.line (k) - columns.first : 0][j] += Gp[k][j];
       lineForm<S, 6> (G, lines, columns.count > 0 ? nb.line_correlation : S (1), form);
     }
-    windowForm (Gp, pu, pv, nb.count, nb.window_px, window_form);
+    windowForm (Gp, pu, pv, nb.count, box_u0, box_v0, box_nu, box_nv, nb.window_px, window_form);
     window_resolved = true;
 #endif
   }
