@@ -222,6 +222,9 @@ TEST_F (BenchBadInput, BadOptions)
   expectRejected ("--scene plane --fits lsq", "lsq");
   expectRejected ("--scene plane --width 8", "--width");
   expectRejected ("--scene plane --data-dir " + (dir_ / "no_such_folder").string (), "no_such_folder");
+  expectRejected ("--scene plane --noise-model " + (dir_ / "no_model.yaml").string (), "no_model.yaml");
+  std::ofstream (dir_ / "bad_model.yaml") << "terms:\n  - name: spatial_correlation\n    parameters: {share: 1}\n";
+  expectRejected ("--scene plane --noise-model " + (dir_ / "bad_model.yaml").string (), "bad_model.yaml");
 }
 
 } // namespace
