@@ -656,3 +656,30 @@ TEST (PcaSampler, WindowCorrelatedNoiseAgreesWithThePerPointSamplerAndTheClosedF
   std::cout << "frontal disc, window 5 px, share 0.7: Sigma_P zz " << an_p[5] << ", closed form " << closed << "\n";
   EXPECT_NEAR (an_p[5] / closed, 1.0, 1e-6);
 }
+
+TEST (SharedNoise, WindowMeansAreEachPixelsWindowSumOverItsWidth)
+{
+  // kernels::windowMeans (sliding sums, used by the Monte Carlo sampler and the lab's replicas)
+  // against each window summed cell by cell, on boxes from 1 x 1 to wider than the window.
+  std::mt19937 rng (5);
+  std::normal_distribution<float> normal;
+  for (const int w : {1, 2, 5, 9})
+    for (const int nu : {1, 7, 31})
+    {
+      const int nv = nu == 7 ? 12 : nu, cu = nu + w - 1, cv = nv + w - 1;
+      std::vector<float> cell (static_cast<std::size_t> (cu) * cv);
+      for (float &c : cell)
+        c = normal (rng);
+      std::vector<double> across (static_cast<std::size_t> (cv) * nu), out (static_cast<std::size_t> (nu) * nv);
+      pcl::texlet::kernels::windowMeans (cell.data (), nu, nv, w, across.data (), out.data ());
+      for (int y = 0; y < nv; ++y)
+        for (int x = 0; x < nu; ++x)
+        {
+          double sum = 0;
+          for (int dy = 0; dy < w; ++dy)
+            for (int dx = 0; dx < w; ++dx)
+              sum += cell[static_cast<std::size_t> (y + dy) * cu + x + dx];
+          EXPECT_NEAR (out[static_cast<std::size_t> (y) * nu + x], sum / w, 1e-5) << "w " << w << " at " << x << ", " << y;
+        }
+    }
+}

@@ -62,7 +62,7 @@ synthesise (const ModelLab::Data &d, const NoiseModel &model, const std::vector<
     const double variance = mv.quantised && mv.grid ? model.moments (ctx).variance_mm2 : mo.variance_mm2;
     const RecordedMoments recorded = recordedMoments (model, mv.quantised, variance, 1000.0 * m.fb () / disparity);
     pvar[k] = recorded.variance_mm2;
-    pcol[k] = mo.column_variance_mm2 + mo.row_variance_mm2;
+    pcol[k] = mo.sharedVarianceMm2 ();
     pmean[k] = disparity - recorded.mean_offset_mm / p.J;
   }
   for (int k = 0; k < P; ++k)

@@ -56,7 +56,7 @@ windowedNoiseFactor (const NoiseMoments &m, int dims)
 {
   if (!(m.window_share > 0.0))
     return 1.0;
-  const double w = std::round (std::min (m.window_px, double (kernels::kMaxWindowPx)));
+  const double w = kernels::resolvedWindowPx (m.window_px);
   return 1.0 + m.window_share * (std::pow (w, dims) - 1.0);
 }
 

@@ -71,7 +71,7 @@ ModelLab::predict (const NoiseModel &model, std::vector<std::vector<float>> &sd_
       const double disparity = d.plane[r] ? s.planes[r].dot (Eigen::Vector3d (1.0, x, y)) : fb1000 / m.surface_mm[i];
       const double mean = predictedMeanMm (disparity, fb1000, mo.bias_mm, J);
       const RecordedMoments recorded = recordedMoments (model, mv.quantised, mo.variance_mm2, mean);
-      sd_mm[i] = static_cast<float> (std::sqrt (recorded.variance_mm2 + mo.column_variance_mm2 + mo.row_variance_mm2 + J * J * drift_var));
+      sd_mm[i] = static_cast<float> (std::sqrt (recorded.variance_mm2 + mo.sharedVarianceMm2 () + J * J * drift_var));
       mean_mm[i] = static_cast<float> (mean + recorded.mean_offset_mm);
     }
   }

@@ -407,9 +407,7 @@ measuredDepths (const RecordingModel &rm, std::vector<float> &y)
 double
 ar1VarianceAboutMean (double a, std::size_t n)
 {
-  if (n < 2)
-    return 0.0;
-  if (a >= 1.0)
+  if (n < 2 || a >= 1.0)
     return 0.0;
   const double N = static_cast<double> (n);
   const double var_mean = ((1 + a) / (1 - a) - 2 * a * (1 - std::pow (a, N)) / (N * (1 - a) * (1 - a))) / N;
@@ -448,12 +446,12 @@ replicaDepths (const RecordingModel &rm, std::mt19937_64 &rng, std::vector<float
       x = (x - centre) * scale;
   };
   // Noise shared over a window: white noise on the cells, its mean over each pixel's window
-  // (times the window's width: unit variance), as kernels::WindowDraw draws it.
-  const int w = rm.window_px, H = m.height, CW = W + w - 1;
+  // times the window's width (unit variance), as kernels::WindowDraw draws it.
+  const int w = rm.window_px, H = m.height;
   std::vector<float> cell, across, window;
   if (w > 1)
   {
-    cell.resize (static_cast<std::size_t> (CW) * (H + w - 1));
+    cell.resize (static_cast<std::size_t> (W + w - 1) * (H + w - 1));
     across.resize (static_cast<std::size_t> (W) * (H + w - 1));
     window.resize (n);
   }
@@ -466,22 +464,7 @@ replicaDepths (const RecordingModel &rm, std::mt19937_64 &rng, std::vector<float
     {
       for (float &c : cell)
         c = normal (rng);
-      for (int y0 = 0; y0 < H + w - 1; ++y0)
-        for (int x = 0; x < W; ++x)
-        {
-          float sum = 0;
-          for (int d = 0; d < w; ++d)
-            sum += cell[static_cast<std::size_t> (y0) * CW + x + d];
-          across[static_cast<std::size_t> (y0) * W + x] = sum;
-        }
-      for (int v = 0; v < H; ++v)
-        for (int x = 0; x < W; ++x)
-        {
-          float sum = 0;
-          for (int d = 0; d < w; ++d)
-            sum += across[static_cast<std::size_t> (v + d) * W + x];
-          window[static_cast<std::size_t> (v) * W + x] = sum / static_cast<float> (w);
-        }
+      kernels::windowMeans (cell.data (), W, H, w, across.data (), window.data ());
     }
     for (std::size_t i = 0; i < n; ++i)
       if (m.at (t, i) > 0 && std::isfinite (rm.sd[i]))
@@ -579,7 +562,7 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
       const PixelContext ctx = lab.context (r, i);
       const NoiseMoments mo = model.moments (ctx);
       const double sd2 = double (rm.sd[i]) * rm.sd[i];
-      const double shared2 = mo.column_variance_mm2 + mo.row_variance_mm2;
+      const double shared2 = mo.sharedVarianceMm2 ();
       const double frame2 = std::min (mo.frame_variance_mm2, shared2);
       const double column2 = std::max (0.0, mo.columnWithinFrameMm2 ()), row2 = std::max (0.0, mo.rowWithinFrameMm2 ());
       rm.frame[i] = static_cast<float> (std::sqrt (std::max (0.0, frame2)));
@@ -590,7 +573,7 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
       if (mo.window_share > 0 && rm.own[i] > 0)
       {
         rm.window[i] = static_cast<float> (std::min (1.0, mo.window_share));
-        rm.window_px = std::max (rm.window_px, static_cast<int> (std::lround (std::min (mo.window_px, double (kernels::kMaxWindowPx)))));
+        rm.window_px = std::max (rm.window_px, kernels::resolvedWindowPx (mo.window_px));
       }
       if (row2 > 0 && std::isfinite (mo.row_correlation_px) && mo.row_correlation_px > 0)
         row_rate += row2 / mo.row_correlation_px;

@@ -42,7 +42,7 @@ binMoments (const ModelView &mv, const std::vector<Bin> &bins, StaticState &s)
   {
     const NoiseMoments m = mv.without_grid.moments (bins[b].ctx);
     s.bin_var[b] = recordedVarianceOverPhases (mv.model, mv.quantised, m.variance_mm2);
-    s.bin_shared[b] = m.column_variance_mm2 + m.row_variance_mm2;
+    s.bin_shared[b] = m.sharedVarianceMm2 ();
     s.bin_bias[b] = mv.quantised ? m.bias_mm : 0.0;
   }
 }

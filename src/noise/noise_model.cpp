@@ -142,7 +142,7 @@ NoiseModel::moments (const PixelContext &ctx) const
     m.row_correlation_px = m.row_variance_mm2 / row_rate;
   for (const auto &t : terms_)
     t->transformMoments (ctx, m.bias_mm, m.variance_mm2);
-  const double s = std::sqrt (m.variance_mm2 + m.column_variance_mm2 + m.row_variance_mm2);
+  const double s = std::sqrt (m.variance_mm2 + m.sharedVarianceMm2 ());
   m.sigma_mm = s > min_sigma_mm_ ? s : min_sigma_mm_;
   return m;
 }

@@ -107,14 +107,30 @@ constexpr int kMaxWindowPx = 15;
   */
 constexpr int kMaxWindowPoints = kMaxSharedLines * kMaxSharedLines;
 
+/** \brief A window's width \a window_px as the kernels resolve it: whole pixels, 1 .. kMaxWindowPx. */
+PCL_TEXLET_HD int
+resolvedWindowPx (double window_px)
+{
+  const double w = window_px < double (kMaxWindowPx) ? std::round (window_px) : double (kMaxWindowPx);
+  return w > 1.0 ? static_cast<int> (w) : 1;
+}
+
+/** \brief The bounding box of a disc's pixels, over which its window-shared noise is resolved. */
+struct WindowBox
+{
+  bool on = false; ///< the disc has window-shared noise and its box fits kMaxSharedLines x kMaxSharedLines
+  int u0 = 0, v0 = 0, nu = 0, nv = 0;
+};
+
 /** \brief Whether the window-shared noise of \a nb is resolved (it has some, and the points'
   * bounding box fits kMaxSharedLines x kMaxSharedLines); the box's corner and size.
   */
-template <typename S> PCL_TEXLET_HD bool
-windowBox (const Neighbourhood<S> &nb, int &u0, int &v0, int &nu, int &nv)
+template <typename S> PCL_TEXLET_HD WindowBox
+windowBox (const Neighbourhood<S> &nb)
 {
+  WindowBox box;
   if (!(nb.window_fraction > S (0)) || !nb.pixel || nb.width <= 0 || nb.count == 0)
-    return false;
+    return box;
   int ulo = nb.pixel[0] % nb.width, uhi = ulo, vlo = nb.pixel[0] / nb.width, vhi = vlo;
   for (int k = 1; k < nb.count; ++k)
   {
@@ -124,11 +140,49 @@ windowBox (const Neighbourhood<S> &nb, int &u0, int &v0, int &nu, int &nv)
     vlo = v < vlo ? v : vlo;
     vhi = v > vhi ? v : vhi;
   }
-  u0 = ulo;
-  v0 = vlo;
-  nu = uhi - ulo + 1;
-  nv = vhi - vlo + 1;
-  return nu <= kMaxSharedLines && nv <= kMaxSharedLines;
+  box.u0 = ulo;
+  box.v0 = vlo;
+  box.nu = uhi - ulo + 1;
+  box.nv = vhi - vlo + 1;
+  box.on = box.nu <= kMaxSharedLines && box.nv <= kMaxSharedLines;
+  return box;
+}
+
+/** \brief The means over each pixel's \a w x \a w window of values on cells: pixel (x, y) of an
+  * \a nu x \a nv box averages cells x .. x + w - 1, y .. y + w - 1 of \a cell ((nu + w - 1) x
+  * (nv + w - 1), by rows), times \a w (unit variance for unit normals), into \a out (nu x nv).
+  * Sliding sums along the rows into \a across ((nv + w - 1) x nu), then along the columns.
+  */
+template <typename S> PCL_TEXLET_HD void
+windowMeans (const float *cell, int nu, int nv, int w, S *across, S *out)
+{
+  const int cu = nu + w - 1, cv = nv + w - 1;
+  for (int y = 0; y < cv; ++y)
+  {
+    const float *line = cell + static_cast<long> (y) * cu;
+    S sum = S (0);
+    for (int d = 0; d + 1 < w; ++d)
+      sum += S (line[d]);
+    for (int x = 0; x < nu; ++x)
+    {
+      sum += S (line[x + w - 1]);
+      across[static_cast<long> (y) * nu + x] = sum;
+      sum -= S (line[x]);
+    }
+  }
+  const S inv_w = S (1) / S (w);
+  for (int x = 0; x < nu; ++x)
+  {
+    S sum = S (0);
+    for (int d = 0; d + 1 < w; ++d)
+      sum += across[static_cast<long> (d) * nu + x];
+    for (int y = 0; y < nv; ++y)
+    {
+      sum += across[static_cast<long> (y + w - 1) * nu + x];
+      out[static_cast<long> (y) * nu + x] = sum * inv_w;
+      sum -= across[static_cast<long> (y) * nu + x];
+    }
+  }
 }
 
 /** \brief Sum of tri(du) tri(dv) over every pixel offset: (sum over |d| < w of 1 - |d| / w)^2 = w^2. */
@@ -185,8 +239,8 @@ windowForm (const S (*G)[6], const int *u, const int *v, int count, int u0, int 
 
 /** \brief The windowed part of a Monte Carlo sample's noise (host only): normals on the cells of
   * the disc's bounding box widened by w - 1 (Philox blocks kWindowNoiseBlock + cell / 4), their
-  * sum over each pixel's w x w window divided by w (unit variance). Off where windowBox() is false
-  * (the part then stays in SharedDraw's own noise, independent).
+  * mean over each pixel's w x w window times w (windowMeans(): unit variance). Off where windowBox()
+  * is off (the part then stays in SharedDraw's own noise, independent).
   */
 template <typename S>
 struct WindowDraw
@@ -196,7 +250,8 @@ struct WindowDraw
   int u0 = 0, v0 = 0, nu = 0, nv = 0;
   S b[kMaxSharedLines * kMaxSharedLines];
 
-  WindowDraw (const Neighbourhood<S> &nb, std::uint32_t seed, std::uint32_t texlet, int s);
+  /** \param box windowBox() of \a nb */
+  WindowDraw (const Neighbourhood<S> &nb, const WindowBox &box, std::uint32_t seed, std::uint32_t texlet, int s);
 
   /** \brief Point \a k's windowed standardised noise, times sqrt(window_fraction). */
   S
@@ -225,21 +280,21 @@ struct SharedDraw
   LineSpan span;
   S e[kMaxSharedLines];
 
-  /** \param whole the points' columns are not known (the ring of normal averaging): one e */
+  /** \param lines sharedLines() of \a nb, or none where the points' columns are not known (the
+    * ring of normal averaging): one e for all
+    * \param window_drawn the window's part is drawn apart (WindowDraw, windowBox() on), else it stays
+    * in the own part
+    */
   PCL_TEXLET_HD
-  SharedDraw (const Neighbourhood<S> &nb, std::uint32_t seed, std::uint32_t texlet, int s, bool whole = false)
+  SharedDraw (const Neighbourhood<S> &nb, const LineSpan &lines, bool window_drawn, std::uint32_t seed,
+              std::uint32_t texlet, int s)
+    : span (lines)
   {
     e[0] = S (0);
-    // The window's part is drawn by WindowDraw where it resolves it, else it stays in the own
-    // part (with the ring, whose pixels are not known, and a disc too wide).
-    int u0, v0, nu, nv;
-    const S window = !whole && windowBox (nb, u0, v0, nu, nv) ? nb.window_fraction : S (0);
-    own = std::sqrt (S (1) - nb.shared_fraction - window);
+    own = std::sqrt (S (1) - nb.shared_fraction - (window_drawn ? nb.window_fraction : S (0)));
     if (!(nb.shared_fraction > S (0)))
       return;
     root = std::sqrt (nb.shared_fraction);
-    if (!whole)
-      span = sharedLines (nb);
     const int n = span.count > 0 ? span.count : 1;
     const S a = span.count > 0 ? nb.line_correlation : S (1), b = std::sqrt (S (1) - a * a);
     float g[4];
@@ -264,38 +319,26 @@ struct SharedDraw
 constexpr std::uint32_t kWindowNoiseBlock = 0x50000000u;
 
 template <typename S>
-WindowDraw<S>::WindowDraw (const Neighbourhood<S> &nb, std::uint32_t seed, std::uint32_t texlet, int s)
+WindowDraw<S>::WindowDraw (const Neighbourhood<S> &nb, const WindowBox &box, std::uint32_t seed, std::uint32_t texlet,
+                           int s)
 {
-  if (!windowBox (nb, u0, v0, nu, nv))
+  if (!box.on)
     return;
-  const int w = nb.window_px, cu = nu + w - 1, cv = nv + w - 1;
-  // cell (x, y) is the window's corner; pixel (x, y) of the box sums cells x .. x + w - 1
+  u0 = box.u0;
+  v0 = box.v0;
+  nu = box.nu;
+  nv = box.nv;
+  const int w = nb.window_px, cells = (nu + w - 1) * (nv + w - 1);
   float cell[(kMaxSharedLines + kMaxWindowPx - 1) * (kMaxSharedLines + kMaxWindowPx - 1)];
   float g[4];
-  for (int c = 0; c < cu * cv; ++c)
+  for (int c = 0; c < cells; ++c)
   {
     if ((c & 3) == 0)
       normalQuad (seed, texlet, static_cast<std::uint32_t> (s), kWindowNoiseBlock + static_cast<std::uint32_t> (c >> 2), g);
     cell[c] = g[c & 3];
   }
-  S across[(kMaxSharedLines + kMaxWindowPx - 1) * kMaxSharedLines]; // sums along rows, cv x nu
-  for (int y = 0; y < cv; ++y)
-    for (int x = 0; x < nu; ++x)
-    {
-      S sum = S (0);
-      for (int d = 0; d < w; ++d)
-        sum += S (cell[y * cu + x + d]);
-      across[y * nu + x] = sum;
-    }
-  const S inv_w = S (1) / S (w);
-  for (int y = 0; y < nv; ++y)
-    for (int x = 0; x < nu; ++x)
-    {
-      S sum = S (0);
-      for (int d = 0; d < w; ++d)
-        sum += across[(y + d) * nu + x];
-      b[y * nu + x] = sum * inv_w;
-    }
+  S across[(kMaxSharedLines + kMaxWindowPx - 1) * kMaxSharedLines];
+  windowMeans (cell, nu, nv, w, across, b);
   root = std::sqrt (nb.window_fraction);
   on = true;
 }

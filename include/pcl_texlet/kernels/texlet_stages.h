@@ -211,8 +211,7 @@ discSharedNoise (const CentreNoise &s, const int *pixel, int width, Neighbourhoo
   nb.width = width;
   nb.lines_are_rows = s.lines_are_rows;
   nb.window_fraction = static_cast<S> (s.window_fraction > 0.0 ? (s.window_fraction < 1.0 ? s.window_fraction : 1.0) : 0.0);
-  const double w = s.window_px < double (kMaxWindowPx) ? std::round (s.window_px) : double (kMaxWindowPx);
-  nb.window_px = w > 1.0 ? static_cast<int> (w) : 1;
+  nb.window_px = resolvedWindowPx (s.window_px);
   if (nb.window_px == 1 || nb.shared_fraction + nb.window_fraction > S (1)) // a 1 px window shares nothing
     nb.window_fraction = nb.window_px == 1 ? S (0) : S (1) - nb.shared_fraction;
 }

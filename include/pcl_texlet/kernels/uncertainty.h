@@ -126,8 +126,8 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   S window_form[21];
   bool window_resolved = false;
   const LineSpan columns = sharedLines (nb);
-  int box_u0, box_v0, box_nu, box_nv;
-  if (windowBox (nb, box_u0, box_v0, box_nu, box_nv))
+  const WindowBox box = windowBox (nb);
+  if (box.on)
   {
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
     // Every point's SD-weighted Jacobians kept, for the window's pairs (shared_noise.h).
@@ -151,7 +151,7 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
           G[columns.count > 0 ? nb.line (k) - columns.first : 0][j] += Gp[k][j];
       lineForm<S, 6> (G, lines, columns.count > 0 ? nb.line_correlation : S (1), form);
     }
-    windowForm (Gp, pu, pv, nb.count, box_u0, box_v0, box_nu, box_nv, nb.window_px, window_form);
+    windowForm (Gp, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_form);
     window_resolved = true;
 #endif
   }
@@ -401,7 +401,7 @@ averagingSample (const Neighbourhood<S> &nb, const bool ring_use[7], std::uint32
 {
   float g[4];
   Vec3<S> ring[7];
-  const SharedDraw<S> shared (nb, seed, texlet, s, true); // the ring's columns are not known
+  const SharedDraw<S> shared (nb, LineSpan (), false, seed, texlet, s); // the ring's columns are not known
   for (int i = 0; i < 7; ++i)
   {
     if ((i & 3) == 0)
@@ -415,19 +415,21 @@ averagingSample (const Neighbourhood<S> &nb, const bool ring_use[7], std::uint32
 
 /** \brief Monte Carlo sample \a s of a PCA or SVD fit: every inlier (\a mask) moved along its
   * ray by depth noise from Philox counters (seed, texlet, s, point block), and re-fitted.
+  * \param lines, box sharedLines() and windowBox() of \a nb, once per texlet
   * \param work scratch of 3 * nb.count values (used by the SVD fit only)
   * \return false where the sample has no plane
   */
 template <typename S> PCL_TEXLET_HD bool
-inlierSample (const Neighbourhood<S> &nb, const unsigned char *mask, PlaneFitMethod method, std::uint32_t seed,
-              std::uint32_t texlet, int s, const Vec3<S> &P0, S *work, Vec3<S> &P, Vec3<S> &N)
+inlierSample (const Neighbourhood<S> &nb, const unsigned char *mask, PlaneFitMethod method, const LineSpan &lines,
+              const WindowBox &box, std::uint32_t seed, std::uint32_t texlet, int s, const Vec3<S> &P0, S *work,
+              Vec3<S> &P, Vec3<S> &N)
 {
   float g[4];
   PlaneMoments<S> m;
   m.reset (P0);
-  const SharedDraw<S> shared (nb, seed, texlet, s);
+  const SharedDraw<S> shared (nb, lines, box.on, seed, texlet, s);
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
-  const WindowDraw<S> windowed (nb, seed, texlet, s);
+  const WindowDraw<S> windowed (nb, box, seed, texlet, s);
 #endif
   for (int k = 0; k < nb.count; ++k)
   {
@@ -480,12 +482,14 @@ monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, con
 {
   SampleCovariance<S> acc;
   acc.reset (centre);
+  const bool ring = method == PlaneFitMethod::Averaging;
+  const LineSpan lines = ring ? LineSpan () : sharedLines (nb);
+  const WindowBox box = ring ? WindowBox () : windowBox (nb);
   for (int s = 0; s < samples; ++s)
   {
     Vec3<S> P, N;
-    const bool ok = method == PlaneFitMethod::Averaging
-                        ? averagingSample (nb, ring_use, seed, texlet, s, P, N)
-                        : inlierSample (nb, mask, method, seed, texlet, s, P0, work, P, N);
+    const bool ok = ring ? averagingSample (nb, ring_use, seed, texlet, s, P, N)
+                         : inlierSample (nb, mask, method, lines, box, seed, texlet, s, P0, work, P, N);
     if (ok)
       addMonteCarloSample (P, N, P0, centre.N0, centre.t1, centre.t2, acc);
   }
@@ -594,7 +598,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       S z[kPcaSampleNormals], m[3], c[6], a1, a2;
       Vec3<S> dP;
       pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
-      const SharedDraw<S> shared (nb, seed, texlet, s);
+      const SharedDraw<S> shared (nb, columns, false, seed, texlet, s);
       pcaLineSampleMoments (md, cols, z, shared.e, m, c);
       if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
         acc.add (dP, a1, a2);

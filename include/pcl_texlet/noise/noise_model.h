@@ -54,6 +54,10 @@ struct NoiseMoments
   /** \brief The row offsets' variance about their frame's offset, mm^2. */
   double
   rowWithinFrameMm2 () const { return row_variance_mm2 - row_frame_variance_mm2; }
+
+  /** \brief The variance a pixel shares with its column and its row (their frame's part included), mm^2. */
+  double
+  sharedVarianceMm2 () const { return column_variance_mm2 + row_variance_mm2; }
 };
 
 /** \brief One physical contribution to the depth noise. */

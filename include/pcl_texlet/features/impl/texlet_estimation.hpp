@@ -137,7 +137,7 @@ public:
     const PixelContext ctx = pointContext (camera_, u, v, z, this->intensity (this->point (u, v)), context_);
     const NoiseMoments m = noise_.moments (ctx);
     s.sigma = m.sigma_mm * 1e-3;
-    const double total = m.sigma_mm * m.sigma_mm, shared = m.column_variance_mm2 + m.row_variance_mm2;
+    const double total = m.sigma_mm * m.sigma_mm, shared = m.sharedVarianceMm2 ();
     s.fraction = total > 0.0 && std::isfinite (shared) ? shared / total : 0.0;
     s.lines_are_rows = m.row_variance_mm2 > m.column_variance_mm2;
     s.line_correlation_px = s.lines_are_rows ? m.row_correlation_px : m.column_correlation_px;
