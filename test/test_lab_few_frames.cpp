@@ -12,6 +12,8 @@
 #include <pcl_texlet/lab/recording_measurement.h>
 #include <pcl_texlet/noise/effect_registry.h>
 
+#include <pcl/exceptions.h>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -142,4 +144,30 @@ TEST (ModelLabFewFrames, TwoFrameWallsRun)
   for (const auto &c : run.candidates)
     if (c.effect == "radial" || c.effect == "axial_quadratic")
       EXPECT_TRUE (c.applicable) << c.effect << ": " << c.note;
+}
+
+// Adding by name what single frames cannot show is refused with the reason, as the ranking
+// marks it not applicable; what they can show is added.
+TEST (ModelLabFewFrames, AddingWhatSingleFramesCannotShowIsRefused)
+{
+  lab::ModelLab lab{lab::LabSettings ()};
+  for (const auto &r : generateWalls ("", 671, 1, 160))
+    lab.addRecording (r);
+  for (const char *name : {"radial", "spatial_correlation", "covariate:intensity"})
+  {
+    EXPECT_FALSE (lab.whyNotApplicable (name).empty ()) << name;
+    try
+    {
+      lab.addEffect (NoiseModel::paper (), name);
+      ADD_FAILURE () << name << " was added to single frames";
+    }
+    catch (const pcl::BadArgumentException &e)
+    {
+      const std::string what = e.what ();
+      EXPECT_NE (what.find (name), std::string::npos) << what;
+      EXPECT_NE (what.find ("cannot show"), std::string::npos) << what;
+    }
+  }
+  EXPECT_EQ (lab.whyNotApplicable ("depth_distortion"), "");
+  EXPECT_TRUE (lab.addEffect (NoiseModel::paper (), "depth_distortion").find ("depth_distortion"));
 }

@@ -47,21 +47,6 @@ ModelLab::rankCandidates (const NoiseModel &current) const
 
   // Which effects the data can show at all.
   std::vector<Candidate> out;
-  bool any_plane = false, any_edges = false, repeated = false, any_intensity = false;
-  std::vector<double> projectors;
-  for (const auto &r : recordings_)
-  {
-    any_plane = any_plane || r->plane_scene;
-    repeated = repeated || r->frames >= 2;
-    any_intensity = any_intensity || !r->intensity.empty ();
-    projectors.push_back (r->active_projectors);
-    std::size_t near = 0;
-    for (std::size_t i = 0; i < r->used.size (); ++i)
-      near += (r->used[i] && r->edge_distance_px[i] < 3.0f) ? 1 : 0;
-    any_edges = any_edges || near > 100;
-  }
-  const bool varied_projectors = *std::max_element (projectors.begin (), projectors.end ()) >
-                                 *std::min_element (projectors.begin (), projectors.end ());
   for (const auto &name : noiseEffectNames ())
   {
     if (current.find (name))
@@ -71,20 +56,8 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     const EffectInfo &info = effectInfo (name);
     c.physics = info.physics;
     c.signature = info.signature;
-    // Single frames first: it is the most basic of the limits.
-    if ((info.lab_needs & effects::kNeedsRepeatedFrames) && !repeated)
-      c.applicable = false, c.note = "needs at least 2 frames per pixel to measure temporal noise: it adds variance "
-                                     "only, which single frames cannot tell from an unmodelled bias";
-    else if ((info.lab_needs & effects::kNeedsPlaneScene) && !any_plane)
-      c.applicable = false, c.note = "needs a plane scene (meta.yaml scene: plane) to tell a static bias from the surface";
-    else if ((info.lab_needs & effects::kNeedsVariedProjectors) && !varied_projectors)
-      c.applicable = false, c.note = "every recording has the same number of active projectors";
-    else if ((info.lab_needs & effects::kNeedsFrameSplit) && !splitsFrames ())
-      c.applicable = false, c.note = "needs recordings of at least 4 frames";
-    else if ((info.lab_needs & effects::kNeedsDepthEdges) && !any_edges)
-      c.applicable = false, c.note = "no depth edges in the recordings";
-    else if ((info.lab_needs & effects::kNeedsIntensity) && !any_intensity)
-      c.applicable = false, c.note = "needs colour frames (rgb/*.png) to know each pixel's grey level";
+    c.note = whyNotApplicable (name);
+    c.applicable = c.note.empty ();
     out.push_back (c);
   }
 
@@ -200,8 +173,8 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     c.effect_size = falls[best];
     c.effect_shows_in = best == 0 ? "sd" : best == 1 ? "bias" : "offsets";
     c.effect_share = best == 0 ? size.sd_share : best == 1 ? size.bias_share : size.line_share;
-    c.error_before_mm = best == 0 ? size.sd_before_mm : best == 1 ? size.bias_before_mm : size.line_before_mm;
-    c.error_after_mm = best == 0 ? size.sd_after_mm : best == 1 ? size.bias_after_mm : size.line_after_mm;
+    c.error_before = best == 0 ? size.sd_before_mm : best == 1 ? size.bias_before_mm : size.line_before_mm;
+    c.error_after = best == 0 ? size.sd_after_mm : best == 1 ? size.bias_after_mm : size.line_after_mm;
 #pragma omp critical(lab_progress)
     say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample, " +
          c.effect_shows_in + " error " + std::to_string (100.0 * c.effect_size) + " % of its squared error removed where it shows");
@@ -222,21 +195,28 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     }
     const ModelCorrelation mc = modelCorrelation (*pairs);
     const NeighbourPairs &data_pairs = pairs->neighbour_pairs[0];
+    // Scored with the share fitted to the windows' overlap, as the data's excess is measured; the
+    // candidate's model carries the share calibrated through its replicas, as --add fits it.
     const WindowFit fit = fitWindow (data_pairs, mc, 0);
     c.gain = windowGain (data_pairs, mc, fit, 1);
     null_gains[k].clear (); // the per-pixel bootstrap's slots, never filled for this term
     for (std::size_t j = 1; j < pairs->neighbour_pairs.size (); ++j)
     {
       const NeighbourPairs &null_pairs = pairs->neighbour_pairs[j];
-      null_gains[k].push_back (windowGain (null_pairs, mc, fitWindow (null_pairs, mc, 0), 1));
+      const ModelCorrelation others = modelCorrelation (*pairs, j);
+      null_gains[k].push_back (windowGain (null_pairs, others, fitWindow (null_pairs, others, 0), 1));
     }
-    c.model = withWindow (base, c.effect, fit);
+    c.model = withFittedWindow (*this, base, c.effect, *pairs, 0);
     c.metrics = evaluate (c.model, B, nullptr);
-    c.effect_size = windowEffect (data_pairs, mc, fit, 1, c.error_before_mm, c.error_after_mm);
+    c.effect_size = windowEffect (data_pairs, mc, fit, 1, c.error_before, c.error_after);
     c.effect_shows_in = "correlation";
+    c.error_unit = "correlation";
     c.effect_share = 1.0;
+    const NoiseTerm::Ptr term = c.model.find (c.effect);
+    const std::vector<double> p = term ? term->parameters () : std::vector<double> ();
     c.note = "fitted to the correlation of neighbouring pixels' residuals (even frames), scored on the odd frames' "
-             "pairs: share " + std::to_string (fit.share) + " over a " + std::to_string (fit.window_px) + " px window";
+             "pairs: share " + std::to_string (p.size () > 0 ? p[0] : fit.share) + " over a " +
+             std::to_string (fit.window_px) + " px window";
     say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample, share " +
          std::to_string (fit.share) + " over " + std::to_string (fit.window_px) + " px");
   }
@@ -263,6 +243,43 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     return a.gain > b.gain;
   });
   return out;
+}
+
+std::string
+ModelLab::whyNotApplicable (const std::string &effect) const
+{
+  bool any_plane = false, any_edges = false, repeated = false, any_intensity = false;
+  std::vector<double> projectors;
+  for (const auto &r : recordings_)
+  {
+    any_plane = any_plane || r->plane_scene;
+    repeated = repeated || r->frames >= 2;
+    any_intensity = any_intensity || !r->intensity.empty ();
+    projectors.push_back (r->active_projectors);
+    std::size_t near = 0;
+    for (std::size_t i = 0; i < r->used.size (); ++i)
+      near += (r->used[i] && r->edge_distance_px[i] < 3.0f) ? 1 : 0;
+    any_edges = any_edges || near > 100;
+  }
+  const bool varied_projectors = !projectors.empty () &&
+                                 *std::max_element (projectors.begin (), projectors.end ()) >
+                                     *std::min_element (projectors.begin (), projectors.end ());
+  const unsigned needs = effectInfo (effect).lab_needs;
+  // Single frames first: it is the most basic of the limits.
+  if ((needs & effects::kNeedsRepeatedFrames) && !repeated)
+    return "needs at least 2 frames per pixel to measure temporal noise: it adds variance only, which single frames "
+           "cannot tell from an unmodelled bias";
+  if ((needs & effects::kNeedsPlaneScene) && !any_plane)
+    return "needs a plane scene (meta.yaml scene: plane) to tell a static bias from the surface";
+  if ((needs & effects::kNeedsVariedProjectors) && !varied_projectors)
+    return "every recording has the same number of active projectors";
+  if ((needs & effects::kNeedsFrameSplit) && !splitsFrames ())
+    return "needs recordings of at least 4 frames";
+  if ((needs & effects::kNeedsDepthEdges) && !any_edges)
+    return "no depth edges in the recordings";
+  if ((needs & effects::kNeedsIntensity) && !any_intensity)
+    return "needs colour frames (rgb/*.png) to know each pixel's grey level";
+  return std::string ();
 }
 
 } // namespace lab

@@ -244,7 +244,7 @@ ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels)
     const RecordedMoments recorded =
         recordedMoments (model, mv.quantised, mo.variance_mm2,
                          predictedMeanMm (surface_disparity, 1000.0 * m.fb (), mo.bias_mm, p.J));
-    const double var = recorded.variance_mm2, col = mo.column_variance_mm2 + mo.row_variance_mm2;
+    const double var = recorded.variance_mm2, col = mo.sharedVarianceMm2 ();
     const double sd_pred = std::sqrt (var + col + p.J * p.J * drift_var[p.rec]);
     // One sample (single frames): no temporal SD to compare.
     const double sd_meas = p.n > 1 ? std::sqrt (p.ss_total / (p.n - 1)) : kNaN;
@@ -313,17 +313,15 @@ ModelLab::addEffect (const NoiseModel &current, const std::string &effect) const
     throw pcl::BadArgumentException ("model lab: the model already has the effect '" + effect + "'");
   if (recordings_.empty ())
     throw pcl::BadArgumentException ("model lab: no recording was added");
+  const std::string why = whyNotApplicable (effect);
+  if (!why.empty ())
+    throw pcl::BadArgumentException ("model lab: cannot add the effect '" + effect + "': the recordings cannot show it (" +
+                                     why + ")");
   const std::shared_ptr<const Data> data_all = data (Half::all, current);
   const Data &d = *data_all;
   NoiseModel base = fitOn (current, d, recordings_, settings_);
   if (fittedToNeighbourPairs (effect)) // to every frame's neighbour pairs (spatial_correlation_fit.h)
-  {
-    const ResidualDiagnostics pairs = diagnoseResiduals (*this, base);
-    const ModelCorrelation without = modelCorrelation (pairs);
-    const WindowFit first = fitWindow (pairs.neighbour_pairs[0], without, -1);
-    const ModelCorrelation with = modelCorrelation (diagnoseResiduals (*this, withWindow (base, effect, first)));
-    return withWindow (base, effect, calibrateWindow (pairs.neighbour_pairs[0], without, with, first));
-  }
+    return withFittedWindow (*this, base, effect, diagnoseResiduals (*this, base), -1);
   StaticState s;
   const double nested = fitObjective (base, d, recordings_, s);
   return fitWithEffect (base, current, effect, d, recordings_, settings_, nested);

@@ -80,7 +80,7 @@ fittedToNeighbourPairs (const std::string &name)
 }
 
 ModelCorrelation
-modelCorrelation (const ResidualDiagnostics &d)
+modelCorrelation (const ResidualDiagnostics &d, std::size_t leave_out)
 {
   ModelCorrelation m;
   const int lags = d.neighbour_pairs.empty () ? 0 : lagCount (d.neighbour_pairs[0]);
@@ -93,6 +93,8 @@ modelCorrelation (const ResidualDiagnostics &d)
       int count = 0;
       for (std::size_t j = 1; j < d.neighbour_pairs.size (); ++j)
       {
+        if (j == leave_out)
+          continue;
         double xy, xx, n;
         sums (d.neighbour_pairs[j], -1, dir, k, xy, xx, n);
         if (n > 0)
@@ -213,6 +215,16 @@ withWindow (const NoiseModel &model, const std::string &effect, const WindowFit 
   out.remove (effect);
   out.add (*term);
   return out;
+}
+
+NoiseModel
+withFittedWindow (const ModelLab &lab, const NoiseModel &base, const std::string &effect,
+                  const ResidualDiagnostics &pairs, int half)
+{
+  const ModelCorrelation without = modelCorrelation (pairs);
+  const WindowFit first = fitWindow (pairs.neighbour_pairs[0], without, half);
+  const ModelCorrelation with = modelCorrelation (diagnoseResiduals (lab, withWindow (base, effect, first)));
+  return withWindow (base, effect, calibrateWindow (pairs.neighbour_pairs[0], without, with, first));
 }
 
 } // namespace detail

@@ -38,8 +38,10 @@ struct ModelCorrelation
   std::vector<double> r[2];
 };
 
+/** \param leave_out a replica (1 ..) left out of the mean, so that a replica scored as the null
+  * is not part of the model it is scored against; 0: none */
 ModelCorrelation
-modelCorrelation (const ResidualDiagnostics &d);
+modelCorrelation (const ResidualDiagnostics &d, std::size_t leave_out = 0);
 
 /** The window (share, width 2 .. kernels::kMaxWindowPx) whose correlation share tri(k) adds to
   * the model's best in least squares over both directions and every lag, on half \a half (0, 1;
@@ -76,6 +78,14 @@ windowEffect (const NeighbourPairs &p, const ModelCorrelation &model, const Wind
   * to \a fit's share and width. */
 NoiseModel
 withWindow (const NoiseModel &model, const std::string &effect, const WindowFit &fit);
+
+/** \brief \a base with the term \a effect fitted to half \a half (0, 1; -1: every frame) of the data's
+  * neighbour pairs in \a pairs (diagnoseResiduals() of \a lab under \a base), its share calibrated
+  * by the replicas of the model with it (calibrateWindow(): one more diagnoseResiduals()).
+  */
+NoiseModel
+withFittedWindow (const ModelLab &lab, const NoiseModel &base, const std::string &effect,
+                  const ResidualDiagnostics &pairs, int half);
 
 } // namespace detail
 } // namespace lab

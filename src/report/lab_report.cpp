@@ -385,7 +385,7 @@ labReportJson (const LabSession &s)
     cj["total_gain_nats"] = c.total_gain;
     cj["statistically_significant"] = c.statistically_significant;
     cj["effect_size"] = {{"fall", c.effect_size}, {"shows_in", c.effect_shows_in}, {"pixel_share", c.effect_share},
-                         {"error_before_mm", c.error_before_mm}, {"error_after_mm", c.error_after_mm}};
+                         {"error_before", c.error_before}, {"error_after", c.error_after}, {"unit", c.error_unit}};
     cj["applicable"] = c.applicable;
     cj["physics"] = c.physics;
     cj["signature"] = c.signature;
@@ -863,8 +863,8 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
     if (c.applicable)
     {
       h << "<td>" << fmt (c.gain) << "</td><td>" << fmt (c.threshold, 3) << "</td><td>" << fmt (100.0 * c.effect_size, 3)
-        << " % of the " << c.effect_shows_in << " error's mean square (RMS " << fmt (c.error_before_mm, 3) << " to "
-        << fmt (c.error_after_mm, 3);
+        << " % of the " << c.effect_shows_in << " error's mean square (RMS " << fmt (c.error_before, 3) << " to "
+        << fmt (c.error_after, 3);
       if (c.effect_shows_in == "correlation") // of neighbours' residuals, dimensionless, over every lag
         h << " over lags 1 to " << ResidualDiagnosticsSettings ().max_lag << " along rows and columns)";
       else

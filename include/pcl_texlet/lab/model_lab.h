@@ -107,8 +107,9 @@ struct Candidate
   double effect_size = 0;
   std::string effect_shows_in;  ///< "sd", "bias" or "offsets" (of columns and rows): which error effect_size is of
   double effect_share = 0;      ///< share of the score half's pixels where it shows
-  double error_before_mm = 0;   ///< the RMS error there under the current model refitted
-  double error_after_mm = 0;    ///< ... and with the candidate
+  double error_before = 0;      ///< the RMS error there under the current model refitted, in error_unit
+  double error_after = 0;       ///< ... and with the candidate
+  std::string error_unit = "mm"; ///< "mm", or "correlation" (dimensionless) for terms of the neighbours' correlation
   bool statistically_significant = false; ///< gain > threshold and total_gain >= LabSettings::min_total_gain_nats
   /** \brief statistically_significant and effect_size >= LabSettings::min_effect_size: detectable
     * and large enough to matter.
@@ -182,8 +183,16 @@ public:
   std::vector<Candidate>
   rankCandidates (const NoiseModel &current) const;
 
+  /** \brief Why the recordings cannot show the registered effect \a effect (single frames, no
+    * plane scene, one projector count, too few frames to split, no depth edges, no colour), or
+    * empty when they can.
+    */
+  std::string
+  whyNotApplicable (const std::string &effect) const;
+
   /** \brief \a current with effect \a effect added and every parameter refitted on all data.
-    * \throws pcl::BadArgumentException for an unknown effect or one already in the model.
+    * \throws pcl::BadArgumentException for an unknown effect, one already in the model, or one
+    * the recordings cannot show (whyNotApplicable()).
     */
   NoiseModel
   addEffect (const NoiseModel &current, const std::string &effect) const;
