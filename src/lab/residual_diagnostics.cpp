@@ -65,19 +65,16 @@ struct Stats
 {
   double frames = 0, frames_n = 0, rows = 0, rows_n = 0, columns = 0, columns_n = 0;
   double frame_lag1 = 0, frame_lag0 = 0; // the frame offsets' products one frame apart, and squares
-  std::vector<double> acf_num[3], acf_pairs[3]; // rows, columns, time; per lag
+  std::vector<double> time_num, time_pairs;     // products of residuals k frames apart, and their count; per lag
   double var = 0, var_n = 0;                    // of the residuals after the offsets
-  NeighbourPairs pairs;                         // the same pairs along rows and columns, by half
+  NeighbourPairs pairs;                         // pairs along rows and columns, by half: their autocorrelation too
   std::vector<std::vector<double>> bin_v, bin_b, bin_n; // per covariate, per bin
 
   void
   init (int lags, const std::vector<int> &bins)
   {
-    for (int d = 0; d < 3; ++d)
-    {
-      acf_num[d].assign (lags, 0.0);
-      acf_pairs[d].assign (lags, 0.0);
-    }
+    time_num.assign (lags, 0.0);
+    time_pairs.assign (lags, 0.0);
     for (int h = 0; h < 2; ++h)
       for (int d = 0; d < 2; ++d)
       {
@@ -100,7 +97,19 @@ struct Stats
   acf (int d, int lag) const
   {
     const double v = var / std::max (var_n, 1.0);
-    return acf_pairs[d][lag] > 0 && v > 0 ? acf_num[d][lag] / acf_pairs[d][lag] / v : 0.0;
+    double num = 0, count = 0;
+    if (d == 2)
+    {
+      num = time_num[lag];
+      count = time_pairs[lag];
+    }
+    else
+      for (int h = 0; h < 2; ++h)
+      {
+        num += pairs.products[h][d][lag];
+        count += pairs.count[h][d][lag];
+      }
+    return count > 0 && v > 0 ? num / count / v : 0.0;
   }
 
   /** Mean square, over pixels, of the deviation of their bin's mean from the overall mean:
@@ -330,8 +339,6 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
       }
     const int half = t & 1;
     auto pair = [&] (int d, int k, double x, double y) {
-      s.acf_num[d][k - 1] += x * y;
-      s.acf_pairs[d][k - 1] += 1;
       s.pairs.products[half][d][k - 1] += x * y;
       s.pairs.squares[half][d][k - 1] += x * x + y * y;
       s.pairs.count[half][d][k - 1] += 1;
@@ -378,8 +385,8 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
           const float later = e[(t + k) * n + i];
           if (std::isfinite (later))
           {
-            s.acf_num[2][k - 1] += double (x) * later;
-            s.acf_pairs[2][k - 1] += 1;
+            s.time_num[k - 1] += double (x) * later;
+            s.time_pairs[k - 1] += 1;
           }
         }
       }

@@ -22,6 +22,7 @@
 #include <pcl_texlet/kernels/config.h>
 #include <pcl_texlet/kernels/neighbourhood.h>
 #include <pcl_texlet/kernels/philox_rng.h>
+#include <pcl_texlet/kernels/semidefinite_factor.h>
 
 #include <cmath>
 #include <cstdint>
@@ -198,43 +199,55 @@ windowInflation (const Neighbourhood<S> &nb)
   * and size \a nu x \a nv (windowBox()), at most one point per pixel. Since tri tri is the two
   * pixels' windows' overlap over w^2, the form is (1 / w^2) sum over the windows c touching the box
   * of H_c H_c', H_c the sum of G over window c: sliding sums along the rows, then the columns.
+  * Only the block of values \a lo .. \a hi - 1 is formed (the rest of \a out is 0): a texlet
+  * needs 3 of the 6 when P is on the centre ray.
   */
-template <typename S> PCL_TEXLET_HD void
+template <typename S, int lo = 0, int hi = 6> PCL_TEXLET_HD void
 windowForm (const S (*G)[6], const int *u, const int *v, int count, int u0, int v0, int nu, int nv, int w,
             S out[21])
 {
   for (int k = 0; k < 21; ++k)
     out[k] = S (0);
-  int cell[kMaxSharedLines * kMaxSharedLines]; // the point at each pixel of the box, or -1
-  for (int c = 0; c < nu * nv; ++c)
-    cell[c] = -1;
+  constexpr int dims = hi - lo;
+  S block[dims * (dims + 1) / 2]; // the block's upper triangle, packed
+  for (int k = 0; k < dims * (dims + 1) / 2; ++k)
+    block[k] = S (0);
+  // The points' G on the box, padded with zeros so that the sliding sums need no tests: grid
+  // column p holds box column p - w (pads 0 .. w - 1 and nu + w .. nu + 2w - 1), and window x
+  // (box columns x - w + 1 .. x) sums grid columns x + 1 .. x + w; the same for the rows.
+  const int pw = nu + 2 * w;
+  S grid[kMaxSharedLines * (kMaxSharedLines + 2 * kMaxWindowPx)][dims];
+  for (int c = 0; c < nv * pw; ++c)
+    for (int d = 0; d < dims; ++d)
+      grid[c][d] = S (0);
   for (int k = 0; k < count; ++k)
-    cell[(v[k] - v0) * nu + (u[k] - u0)] = k;
-  S row[kMaxSharedLines][6]; // each box row's sum over the window's columns x - w + 1 .. x
-  for (int y = 0; y < nv; ++y)
-    for (int d = 0; d < 6; ++d)
+    for (int d = 0; d < dims; ++d)
+      grid[(v[k] - v0) * pw + (u[k] - u0 + w)][d] = G[k][lo + d];
+  S row[kMaxSharedLines + 2 * kMaxWindowPx][dims]; // row y + w: box row y's sum over window x's columns
+  for (int y = 0; y < nv + 2 * w; ++y)
+    for (int d = 0; d < dims; ++d)
       row[y][d] = S (0);
   for (int x = 0; x < nu + w - 1; ++x)
   {
     for (int y = 0; y < nv; ++y)
-    {
-      const int in = x < nu ? cell[y * nu + x] : -1, gone = x >= w ? cell[y * nu + x - w] : -1;
-      for (int d = 0; d < 6; ++d)
-        row[y][d] += (in >= 0 ? G[in][d] : S (0)) - (gone >= 0 ? G[gone][d] : S (0));
-    }
-    S H[6] = {S (0), S (0), S (0), S (0), S (0), S (0)}; // window (x, y): rows y - w + 1 .. y
+      for (int d = 0; d < dims; ++d)
+        row[y + w][d] += grid[y * pw + x + w][d] - grid[y * pw + x][d];
+    S H[dims]; // window (x, y): rows y - w + 1 .. y
+    for (int d = 0; d < dims; ++d)
+      H[d] = S (0);
     for (int y = 0; y < nv + w - 1; ++y)
     {
-      for (int d = 0; d < 6; ++d)
-        H[d] += (y < nv ? row[y][d] : S (0)) - (y >= w ? row[y - w][d] : S (0));
-      for (int a = 0, k = 0; a < 6; ++a)
-        for (int b = a; b < 6; ++b, ++k)
-          out[k] += H[a] * H[b];
+      for (int d = 0; d < dims; ++d)
+        H[d] += row[y + w][d] - row[y][d];
+      for (int a = 0, k = 0; a < dims; ++a)
+        for (int b = a; b < dims; ++b, ++k)
+          block[k] += H[a] * H[b];
     }
   }
   const S inv_w2 = S (1) / (S (w) * S (w));
-  for (int k = 0; k < 21; ++k)
-    out[k] *= inv_w2;
+  for (int a = 0, k = 0; a < dims; ++a)
+    for (int b = a; b < dims; ++b, ++k)
+      out[packedIndex<6> (lo + a, lo + b)] = block[k] * inv_w2;
 }
 
 /** \brief The windowed part of a Monte Carlo sample's noise (host only): normals on the cells of

@@ -151,7 +151,11 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
           G[columns.count > 0 ? nb.line (k) - columns.first : 0][j] += Gp[k][j];
       lineForm<S, 6> (G, lines, columns.count > 0 ? nb.line_correlation : S (1), form);
     }
-    windowForm (Gp, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_form);
+    // (r, j1, j2, a): the normal needs j1, j2; P on the centre ray a, else r.
+    if (centre.on)
+      windowForm<S, 3, 6> (Gp, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_form);
+    else
+      windowForm<S, 0, 5> (Gp, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_form);
     window_resolved = true;
 #endif
   }
