@@ -48,7 +48,7 @@ pixelContext (const RecordingMeasurement &m, std::size_t i)
   c.cos_incidence = m.cos_incidence[i];
   c.edge_distance_px = std::min (m.edge_distance_px[i], 1e3f);
   if (!m.intensity.empty ())
-    c.intensity = m.intensity[i] / 255.0;
+    c.intensity = m.intensity[i];
   return c;
 }
 
@@ -181,7 +181,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         const float e = m.edge_distance_px[i];
         const int eb = e < 2.0f ? 0 : (e < 5.0f ? 1 : 2);
         // Grey level in 8 bins where the recording has colour frames (terms of the intensity).
-        const int ib = m.intensity.empty () ? 0 : std::min (7, static_cast<int> (m.intensity[i] / 32.0f));
+        const int ib = m.intensity.empty () ? 0 : std::min (7, static_cast<int> (m.intensity[i] * 8.0f));
         const double moved_px = distortion ? linearBiasPx (*distortion, distortion->parameters (), u, v,
                                                            m.surface_mm[i], m.fb ())
                                            : 0.0;
@@ -213,7 +213,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
           B.sz += m.surface_mm[i];
           B.scos += m.cos_incidence[i];
           B.sedge += std::min (e, 1e3f);
-          B.sintensity += m.intensity.empty () ? 0.0 : m.intensity[i] / 255.0;
+          B.sintensity += m.intensity.empty () ? 0.0 : m.intensity[i];
           B.sphase += phase;
           B.sdistortion += moved_px;
           B.w += 1;

@@ -158,7 +158,7 @@ measureRecording (RecordingReader &reader, const std::string &name, const std::s
     {
       grey_sum.resize (n, 0.0);
       for (std::size_t i = 0; i < n; ++i)
-        grey_sum[i] += 255.0 * greyLevel (frame.rgb[3 * i], frame.rgb[3 * i + 1], frame.rgb[3 * i + 2]);
+        grey_sum[i] += greyLevel (frame.rgb[3 * i], frame.rgb[3 * i + 1], frame.rgb[3 * i + 2]);
       ++colour_frames;
     }
     ++m->frames;

@@ -104,8 +104,9 @@ frameTexlets (const RecordingMeasurement &rec, const NoiseModel &model, const Te
   frame.width = rec.width;
   frame.height = rec.height;
   const std::size_t n_px = static_cast<std::size_t> (rec.width) * rec.height;
-  for (const float grey : rec.intensity)
-    frame.rgb.insert (frame.rgb.end (), 3, static_cast<std::uint8_t> (std::lround (std::min (255.0f, std::max (0.0f, grey)))));
+  for (const float grey : rec.intensity) // back to the 8-bit grey whose greyLevel() it is
+    frame.rgb.insert (frame.rgb.end (), 3,
+                      static_cast<std::uint8_t> (std::lround (255.0f * std::min (1.0f, std::max (0.0f, grey)))));
   auto cloud = std::make_shared<pcl::PointCloud<PointT>> ();
   for (int f = 0; f < used_frames; ++f)
   {

@@ -643,7 +643,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
                            {"edge distance", "px (40 = none)", covEdge, false}, {"active projectors", "1", covProjectors, true}};
   // Recordings with colour frames: the grey level too, a tenth panel.
   if (std::any_of (recs.begin (), recs.end (), [] (const auto &r) { return !r->intensity.empty (); }))
-    covs.push_back ({"grey level", "0-255", covIntensity, false});
+    covs.push_back ({"grey level", "0-1", covIntensity, false});
   const int cov_rows = covs.size () > 8 ? 4 : 3;
   std::vector<Region> worst_covariates;
   for (int which = 0; which < 2; ++which)

@@ -73,8 +73,8 @@ struct RecordingMeasurement
   std::vector<float> edge_distance_px; ///< distance to the nearest depth edge (large: none)
   std::vector<float> phase;         ///< sub-step phase of the surface's disparity, [0, 1)
   std::vector<std::uint8_t> inlier; ///< used in the surface fit (plane scenes)
-  /** \brief Mean grey level (0-255, Rec. 601 luma) of the frames' colour images; empty when the
-    * recording has none.
+  /** \brief Mean grey level of the frames' colour images, 0 (black) to 1 (white), as
+    * PixelContext::intensity holds it (greyLevel()); empty when the recording has none.
     */
   std::vector<float> intensity;
 
