@@ -218,7 +218,8 @@ ModelLab::rankCandidates (const NoiseModel &current) const
              "pairs: share " + std::to_string (p.size () > 0 ? p[0] : fit.share) + " over a " +
              std::to_string (fit.window_px) + " px window";
     say ("lab: candidate " + c.effect + ": held-out gain " + std::to_string (c.gain) + " nats/sample, share " +
-         std::to_string (fit.share) + " over " + std::to_string (fit.window_px) + " px");
+         std::to_string (fit.share) + " of the overlap (calibrated " + std::to_string (p.size () > 0 ? p[0] : fit.share) +
+         ") over " + std::to_string (fit.window_px) + " px");
   }
   for (std::size_t k = 0; k < out.size (); ++k)
   {
