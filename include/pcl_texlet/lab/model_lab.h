@@ -186,6 +186,7 @@ public:
   /** \brief Why the recordings cannot show the registered effect \a effect (single frames, no
     * plane scene, one projector count, too few frames to split, no depth edges, no colour), or
     * empty when they can.
+    * \throws pcl::BadArgumentException for an effect that is not registered
     */
   std::string
   whyNotApplicable (const std::string &effect) const;
