@@ -6,6 +6,7 @@
  * per-point sampler (monteCarloCovariance, the reference definition) within their Monte Carlo
  * standard error on planar and curved patches.
  */
+#include <pcl_texlet/kernels/hex_grid.h>
 #include <pcl_texlet/kernels/pca_sampler.h>
 #include <pcl_texlet/kernels/texlet_kernel.h>
 
@@ -682,4 +683,62 @@ TEST (SharedNoise, WindowMeansAreEachPixelsWindowSumOverItsWidth)
           EXPECT_NEAR (out[static_cast<std::size_t> (y) * nu + x], sum / w, 1e-5) << "w " << w << " at " << x << ", " << y;
         }
     }
+}
+
+TEST (NormalAveraging, SharedNoiseFollowsTheRingsPixelsInBothPropagations)
+{
+  // The ring of normal averaging (hexagon of 6 px around pixel (500, 300), f = 525 px) on a
+  // tilted wall at 1.2 m, noise shared by column bands (correlation 0.6 a^|du|, a = e^-1/4)
+  // or over a 9 px window (0.8 tri(du) tri(dv)): Monte Carlo draws the ring's correlation
+  // (its Cholesky factor), the first-order propagation sums its pairs; both must agree, and
+  // differ from the ring taken as sharing the bands whole and the window not at all.
+  Neighbourhood<double> nb;
+  int du[7], dv[7];
+  hexRingOffsets (6, du, dv);
+  const double sd = 2e-3;
+  for (int k = 0; k < 7; ++k)
+  {
+    const double x = du[k] / 525.0, y = dv[k] / 525.0, z = 1.2 / (1.0 - 0.3 * x + 0.2 * y);
+    nb.ring[k] = {x * z, y * z, z};
+    nb.ring_sigma[k] = sd;
+    nb.ring_valid[k] = true;
+    nb.ring_du[k] = du[k];
+    nb.ring_dv[k] = dv[k];
+  }
+  nb.ring_offsets = true;
+  const bool use[7] = {true, true, true, true, true, true, true};
+  Vec3<double> N;
+  ASSERT_TRUE (averagingNormal (nb.ring, use, N));
+  TexletCentrePoint<double> centre;
+  centre.N0 = N;
+  tangentFrame (N, centre.t1, centre.t2);
+  const unsigned char mask[1] = {1};
+  std::vector<double> work (3);
+  const int samples = 40000;
+  double own_p[6], own_n[3];
+  analyticAveragingCovariance (nb, use, N, centre.t1, centre.t2, own_p, own_n);
+  for (const bool window : {false, true})
+  {
+    nb.shared_fraction = window ? 0.0 : 0.6;
+    nb.line_correlation = std::exp (-0.25);
+    nb.window_fraction = window ? 0.8 : 0.0;
+    nb.window_px = window ? 9 : 1;
+    nb.ring_offsets = true;
+    double an_p[6], an_n[3], mc_p[6], mc_n[3], blind_p[6], blind_n[3];
+    analyticAveragingCovariance (nb, use, N, centre.t1, centre.t2, an_p, an_n);
+    monteCarloCovariance (nb, mask, use, PlaneFitMethod::Averaging, samples, 17u, 91u, nb.ring[0], centre,
+                          work.data (), mc_p, mc_n);
+    nb.ring_offsets = false;
+    analyticAveragingCovariance (nb, use, N, centre.t1, centre.t2, blind_p, blind_n);
+    std::cout << (window ? "window 9 px" : "column bands") << ": Sigma_N 11 analytic " << an_n[0] << " Monte Carlo "
+              << mc_n[0] << " (pixels not known " << blind_n[0] << ", independent " << own_n[0] << "); 22 analytic "
+              << an_n[2] << " Monte Carlo " << mc_n[2] << " (pixels not known " << blind_n[2] << ")\n";
+    for (int k : {0, 2})
+      EXPECT_NEAR (mc_n[k] / an_n[k], 1.0, 0.05) << (window ? "window" : "bands");
+    // (Bands leave the tilt across rows as whole sharing does: its points pair by column.)
+    EXPECT_GT (std::abs ((an_n[0] + an_n[2]) / (blind_n[0] + blind_n[2]) - 1.0), 0.15) << (window ? "window" : "bands");
+    // The centre's own variance: sharing does not change a single point's.
+    EXPECT_NEAR (an_p[5], own_p[5], 1e-15);
+    EXPECT_NEAR (mc_p[5] / an_p[5], 1.0, 0.05);
+  }
 }

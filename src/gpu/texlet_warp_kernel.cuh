@@ -158,7 +158,8 @@ warpMonteCarlo (const kernels::Neighbourhood<S> &nb, const unsigned char *mask, 
     for (int s = lane; s < st.samples; s += 32)
     {
       k::Vec3<S> P, Ns;
-      if (k::averagingSample (nb, ring_use, st.seed, centre, s, P, Ns))
+      // The device's noise is never shared (frame_texlet.h): no ring correlation to draw.
+      if (k::averagingSample<S> (nb, ring_use, nullptr, st.seed, centre, s, P, Ns))
         k::addMonteCarloSample (P, Ns, fit.P, N, t1, t2, acc);
     }
   else

@@ -31,6 +31,12 @@ struct Neighbourhood
   Vec3<S> ring[7];      ///< centre (0) and six hexagonal neighbours (1..6) in angular order
   S ring_sigma[7];      ///< their depth SD
   bool ring_valid[7];   ///< whether each has a finite point
+  int ring_du[7] = {0, 0, 0, 0, 0, 0, 0}; ///< their pixel offsets from the centre, where ring_offsets
+  int ring_dv[7] = {0, 0, 0, 0, 0, 0, 0};
+  /** Whether ring_du, ring_dv are known, so that the ring's shared noise follows its pixels
+    * (ringCorrelation()); else the ring shares the lines' part whole and the window's part is
+    * taken as its own. */
+  bool ring_offsets = false;
   /** The centre pixel's viewing ray, scaled to z = 1 (a point at depth z is z * centre_ray);
     * has_centre_ray is false where neither the centre nor a symmetric pair around it has a reading. */
   Vec3<S> centre_ray = {S (0), S (0), S (1)};

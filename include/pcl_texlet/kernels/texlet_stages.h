@@ -111,9 +111,12 @@ template <typename S, typename Frame> PCL_TEXLET_HD void
 gatherRing (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, Neighbourhood<S> &nb)
 {
   const int w = frame.width (), h = frame.height ();
+  nb.ring_offsets = true;
   for (int k = 0; k < 7; ++k)
   {
     const int u = cu + fs.ring_du[k], v = cv + fs.ring_dv[k];
+    nb.ring_du[k] = fs.ring_du[k];
+    nb.ring_dv[k] = fs.ring_dv[k];
     nb.ring_valid[k] = false;
     nb.ring[k] = {S (0), S (0), S (0)};
     nb.ring_sigma[k] = S (0);

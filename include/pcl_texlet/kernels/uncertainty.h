@@ -265,8 +265,32 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     addSharedNoise<S, 2> (rho, form, 3, S (1), cov_n, window, wf, inflation);
 }
 
+/** \brief The correlation of ring points \a i and \a j's depth noise (normal averaging): 1 for
+  * i = j; else the lines' part shared_fraction line_correlation^|dl| (dl: their columns', or
+  * rows', distance) plus the window's window_fraction tri(du) tri(dv), where their pixel offsets
+  * are known (Neighbourhood::ring_offsets); without them the lines' part is shared whole and
+  * the window's is taken as each point's own.
+  */
+template <typename S> PCL_TEXLET_HD S
+ringCorrelation (const Neighbourhood<S> &nb, int i, int j)
+{
+  if (i == j)
+    return S (1);
+  if (!nb.ring_offsets)
+    return nb.shared_fraction;
+  const int du = nb.ring_du[i] > nb.ring_du[j] ? nb.ring_du[i] - nb.ring_du[j] : nb.ring_du[j] - nb.ring_du[i];
+  const int dv = nb.ring_dv[i] > nb.ring_dv[j] ? nb.ring_dv[i] - nb.ring_dv[j] : nb.ring_dv[j] - nb.ring_dv[i];
+  S lines = nb.shared_fraction;
+  for (int d = 0; d < (nb.lines_are_rows ? dv : du); ++d)
+    lines *= nb.line_correlation;
+  const S w = S (nb.window_px);
+  const S tu = du < nb.window_px ? S (1) - S (du) / w : S (0), tv = dv < nb.window_px ? S (1) - S (dv) / w : S (0);
+  return lines + nb.window_fraction * tu * tv;
+}
+
 /** \brief First-order covariances of normal averaging (P is the centre point), by central
-  * differences of Eq. 5 in each used ring point's depth.
+  * differences of Eq. 5 in each used ring point's depth; the points' shared noise by
+  * ringCorrelation().
   */
 template <typename S> PCL_TEXLET_HD void
 analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], const Vec3<S> &normal,
@@ -279,7 +303,7 @@ analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], cons
   cov_p[3] = vc * rc.y * rc.y; cov_p[4] = vc * rc.y * rc.z; cov_p[5] = vc * rc.z * rc.z;
   for (int i = 0; i < 3; ++i)
     cov_n[i] = S (0);
-  S g[2] = {S (0), S (0)}; // the SD-weighted Jacobians' sum, for the shared part of the noise
+  S g[7][2] = {}; // each used point's SD-weighted Jacobian, for the shared part of the noise
   Vec3<S> ring[7];
   for (int i = 0; i < 7; ++i)
     ring[i] = nb.ring[i];
@@ -303,16 +327,20 @@ analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], cons
     cov_n[0] += var * j1 * j1;
     cov_n[1] += var * j1 * j2;
     cov_n[2] += var * j2 * j2;
-    g[0] += nb.ring_sigma[i] * j1;
-    g[1] += nb.ring_sigma[i] * j2;
+    g[i][0] = nb.ring_sigma[i] * j1;
+    g[i][1] = nb.ring_sigma[i] * j2;
   }
-  if (nb.shared_fraction > S (0)) // the ring's columns are not known: it shares the noise whole
-  {
-    const S G[1][6] = {{S (0), S (0), S (0), g[0], g[1], S (0)}};
-    S form[21];
-    lineForm<S, 6> (G, 1, S (1), form);
-    addSharedNoise<S, 2> (nb.shared_fraction, form, 3, S (1), cov_n);
-  }
+  // Sum over pairs i != j of C_ij G_i G_j' (the own part, C_ii = 1, is above).
+  if (nb.shared_fraction > S (0) || (nb.ring_offsets && nb.window_fraction > S (0)))
+    for (int i = 0; i < 7; ++i)
+      for (int j = 0; j < 7; ++j)
+        if (i != j && use[i] && use[j])
+        {
+          const S c = ringCorrelation (nb, i, j);
+          cov_n[0] += c * g[i][0] * g[j][0];
+          cov_n[1] += c * g[i][0] * g[j][1];
+          cov_n[2] += c * g[i][1] * g[j][1];
+        }
 }
 
 /** \brief First-order covariances of the texlet's fit \a method: analyticAveragingCovariance()
@@ -397,22 +425,35 @@ addMonteCarloSample (const Vec3<S> &P, Vec3<S> N, const Vec3<S> &P0, const Vec3<
 
 /** \brief Monte Carlo sample \a s of normal averaging: the used ring points (\a ring_use)
   * moved along their rays by depth noise from Philox counters (seed, texlet, s, point block),
-  * and Eq. 5 on them. \return false where the sample has no normal
+  * and Eq. 5 on them. \a correlated: the factor of the points' correlation (ringCorrelation())
+  * that draws their noise where it is shared and their pixels are known; null: independent
+  * noise, or the lines' part shared whole (SharedDraw).
+  * \return false where the sample has no normal
   */
 template <typename S> PCL_TEXLET_HD bool
-averagingSample (const Neighbourhood<S> &nb, const bool ring_use[7], std::uint32_t seed, std::uint32_t texlet,
-                 int s, Vec3<S> &P, Vec3<S> &N)
+averagingSample (const Neighbourhood<S> &nb, const bool ring_use[7], const SemidefiniteFactor<S, 7> *correlated,
+                 std::uint32_t seed, std::uint32_t texlet, int s, Vec3<S> &P, Vec3<S> &N)
 {
-  float g[4];
-  Vec3<S> ring[7];
-  const SharedDraw<S> shared (nb, LineSpan (), false, seed, texlet, s); // the ring's columns are not known
-  for (int i = 0; i < 7; ++i)
+  float g[8];
+  normalQuad (seed, texlet, static_cast<std::uint32_t> (s), 0u, g);
+  normalQuad (seed, texlet, static_cast<std::uint32_t> (s), 1u, g + 4);
+  S e[7];
+  if (correlated)
   {
-    if ((i & 3) == 0)
-      normalQuad (seed, texlet, static_cast<std::uint32_t> (s), static_cast<std::uint32_t> (i >> 2), g);
-    ring[i] = ring_use[i] ? (S (1) + shared.noise (g[i & 3], nb, 0) * nb.ring_sigma[i] / nb.ring[i].z) * nb.ring[i]
-                          : nb.ring[i];
+    S z[7];
+    for (int i = 0; i < 7; ++i)
+      z[i] = S (g[i]);
+    correlated->apply (z, e);
   }
+  else
+  {
+    const SharedDraw<S> shared (nb, LineSpan (), false, seed, texlet, s);
+    for (int i = 0; i < 7; ++i)
+      e[i] = shared.noise (g[i], nb, 0);
+  }
+  Vec3<S> ring[7];
+  for (int i = 0; i < 7; ++i)
+    ring[i] = ring_use[i] ? (S (1) + e[i] * nb.ring_sigma[i] / nb.ring[i].z) * nb.ring[i] : nb.ring[i];
   P = ring[0];
   return averagingNormal (ring, ring_use, N);
 }
@@ -489,10 +530,21 @@ monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, con
   const bool ring = method == PlaneFitMethod::Averaging;
   const LineSpan lines = ring ? LineSpan () : sharedLines (nb);
   const WindowBox box = ring ? WindowBox () : windowBox (nb);
+  SemidefiniteFactor<S, 7> ring_factor;
+  const bool correlated_ring =
+      ring && nb.ring_offsets && (nb.shared_fraction > S (0) || nb.window_fraction > S (0));
+  if (correlated_ring)
+  {
+    S c[28];
+    for (int i = 0; i < 7; ++i)
+      for (int j = i; j < 7; ++j)
+        c[packedIndex<7> (i, j)] = ringCorrelation (nb, i, j);
+    factorSemidefinite<S, 7> (c, ring_factor);
+  }
   for (int s = 0; s < samples; ++s)
   {
     Vec3<S> P, N;
-    const bool ok = ring ? averagingSample (nb, ring_use, seed, texlet, s, P, N)
+    const bool ok = ring ? averagingSample (nb, ring_use, correlated_ring ? &ring_factor : nullptr, seed, texlet, s, P, N)
                          : inlierSample (nb, mask, method, lines, box, seed, texlet, s, P0, work, P, N);
     if (ok)
       addMonteCarloSample (P, N, P0, centre.N0, centre.t1, centre.t2, acc);
