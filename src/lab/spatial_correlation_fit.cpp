@@ -23,13 +23,6 @@ namespace detail
 namespace
 {
 
-/** The window's correlation at lag k along a row or a column: its windows' overlap. */
-double
-overlap (int window_px, int k)
-{
-  return k < window_px ? 1.0 - static_cast<double> (k) / window_px : 0.0;
-}
-
 /** Sums of half \a half (-1: both) at direction d, lag index k. */
 void
 sums (const NeighbourPairs &p, int half, int d, int k, double &xy, double &xx, double &n)
@@ -124,7 +117,7 @@ fitWindow (const NeighbourPairs &p, const ModelCorrelation &model, int half)
     for (int d = 0; d < 2; ++d)
       for (int k = 0; k < lags; ++k)
       {
-        const double b = overlap (w, k + 1);
+        const double b = kernels::windowOverlap<double> (k + 1, w);
         xb += excess (p, model, half, d, k) * b;
         bb += b * b;
       }
@@ -133,7 +126,7 @@ fitWindow (const NeighbourPairs &p, const ModelCorrelation &model, int half)
     for (int d = 0; d < 2; ++d)
       for (int k = 0; k < lags; ++k)
       {
-        const double e = excess (p, model, half, d, k) - share * overlap (w, k + 1);
+        const double e = excess (p, model, half, d, k) - share * kernels::windowOverlap<double> (k + 1, w);
         sse += e * e;
       }
     if (sse < best_sse)
@@ -176,8 +169,8 @@ windowGain (const NeighbourPairs &p, const ModelCorrelation &model, const Window
       sums (p, half, d, k, xy, xx, n);
       if (n <= 0)
         continue;
-      const double r0 = model.r[d][k];
-      gain += pairNll (r0, xy, xx, n) - pairNll (r0 + fit.share * overlap (fit.window_px, k + 1), xy, xx, n);
+      const double r0 = model.r[d][k], r1 = r0 + fit.share * kernels::windowOverlap<double> (k + 1, fit.window_px);
+      gain += pairNll (r0, xy, xx, n) - pairNll (r1, xy, xx, n);
     }
   double samples = 0;
   for (int h = 0; h < 2; ++h)
@@ -196,7 +189,8 @@ windowEffect (const NeighbourPairs &p, const ModelCorrelation &model, const Wind
   for (int d = 0; d < 2; ++d)
     for (int k = 0; k < lags; ++k)
     {
-      const double e = excess (p, model, half, d, k), a = e - fit.share * overlap (fit.window_px, k + 1);
+      const double e = excess (p, model, half, d, k);
+      const double a = e - fit.share * kernels::windowOverlap<double> (k + 1, fit.window_px);
       before += e * e;
       after += a * a;
       ++count;

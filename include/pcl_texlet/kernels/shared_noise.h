@@ -186,6 +186,16 @@ windowMeans (const float *cell, int nu, int nv, int w, S *across, S *out)
   }
 }
 
+/** \brief The correlation of window-shared noise at pixel lag \a d along a row or a column: the
+  * overlap of two w x w windows, tri(d) = max(0, 1 - |d| / \a w).
+  */
+template <typename S> PCL_TEXLET_HD S
+windowOverlap (int d, int w)
+{
+  const int a = d < 0 ? -d : d;
+  return a < w ? S (1) - S (a) / S (w) : S (0);
+}
+
 /** \brief Sum of tri(du) tri(dv) over every pixel offset: (sum over |d| < w of 1 - |d| / w)^2 = w^2. */
 template <typename S> PCL_TEXLET_HD S
 windowInflation (const Neighbourhood<S> &nb)

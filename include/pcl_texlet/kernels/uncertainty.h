@@ -283,9 +283,16 @@ ringCorrelation (const Neighbourhood<S> &nb, int i, int j)
   S lines = nb.shared_fraction;
   for (int d = 0; d < (nb.lines_are_rows ? dv : du); ++d)
     lines *= nb.line_correlation;
-  const S w = S (nb.window_px);
-  const S tu = du < nb.window_px ? S (1) - S (du) / w : S (0), tv = dv < nb.window_px ? S (1) - S (dv) / w : S (0);
-  return lines + nb.window_fraction * tu * tv;
+  return lines + nb.window_fraction * windowOverlap<S> (du, nb.window_px) * windowOverlap<S> (dv, nb.window_px);
+}
+
+/** \brief Whether ring points' depth noise correlates between points (ringCorrelation() is not
+  * 0 for every pair): the lines' part always, the window's where the ring's offsets are known.
+  */
+template <typename S> PCL_TEXLET_HD bool
+ringNoiseShared (const Neighbourhood<S> &nb)
+{
+  return nb.shared_fraction > S (0) || (nb.ring_offsets && nb.window_fraction > S (0));
 }
 
 /** \brief First-order covariances of normal averaging (P is the centre point), by central
@@ -331,7 +338,7 @@ analyticAveragingCovariance (const Neighbourhood<S> &nb, const bool use[7], cons
     g[i][1] = nb.ring_sigma[i] * j2;
   }
   // Sum over pairs i != j of C_ij G_i G_j' (the own part, C_ii = 1, is above).
-  if (nb.shared_fraction > S (0) || (nb.ring_offsets && nb.window_fraction > S (0)))
+  if (ringNoiseShared (nb))
     for (int i = 0; i < 7; ++i)
       for (int j = 0; j < 7; ++j)
         if (i != j && use[i] && use[j])
@@ -426,8 +433,7 @@ addMonteCarloSample (const Vec3<S> &P, Vec3<S> N, const Vec3<S> &P0, const Vec3<
 /** \brief Monte Carlo sample \a s of normal averaging: the used ring points (\a ring_use)
   * moved along their rays by depth noise from Philox counters (seed, texlet, s, point block),
   * and Eq. 5 on them. \a correlated: the factor of the points' correlation (ringCorrelation())
-  * that draws their noise where it is shared and their pixels are known; null: independent
-  * noise, or the lines' part shared whole (SharedDraw).
+  * where ringNoiseShared(); null: independent noise.
   * \return false where the sample has no normal
   */
 template <typename S> PCL_TEXLET_HD bool
@@ -446,11 +452,8 @@ averagingSample (const Neighbourhood<S> &nb, const bool ring_use[7], const Semid
     correlated->apply (z, e);
   }
   else
-  {
-    const SharedDraw<S> shared (nb, LineSpan (), false, seed, texlet, s);
     for (int i = 0; i < 7; ++i)
-      e[i] = shared.noise (g[i], nb, 0);
-  }
+      e[i] = S (g[i]);
   Vec3<S> ring[7];
   for (int i = 0; i < 7; ++i)
     ring[i] = ring_use[i] ? (S (1) + e[i] * nb.ring_sigma[i] / nb.ring[i].z) * nb.ring[i] : nb.ring[i];
@@ -531,8 +534,7 @@ monteCarloCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, con
   const LineSpan lines = ring ? LineSpan () : sharedLines (nb);
   const WindowBox box = ring ? WindowBox () : windowBox (nb);
   SemidefiniteFactor<S, 7> ring_factor;
-  const bool correlated_ring =
-      ring && nb.ring_offsets && (nb.shared_fraction > S (0) || nb.window_fraction > S (0));
+  const bool correlated_ring = ring && ringNoiseShared (nb);
   if (correlated_ring)
   {
     S c[28];
