@@ -249,36 +249,20 @@ ModelLab::rankCandidates (const NoiseModel &current) const
 std::string
 ModelLab::whyNotApplicable (const std::string &effect) const
 {
-  bool any_plane = false, any_edges = false, repeated = false, any_intensity = false;
-  std::vector<double> projectors;
-  for (const auto &r : recordings_)
-  {
-    any_plane = any_plane || r->plane_scene;
-    repeated = repeated || r->frames >= 2;
-    any_intensity = any_intensity || !r->intensity.empty ();
-    projectors.push_back (r->active_projectors);
-    std::size_t near = 0;
-    for (std::size_t i = 0; i < r->used.size (); ++i)
-      near += (r->used[i] && r->edge_distance_px[i] < 3.0f) ? 1 : 0;
-    any_edges = any_edges || near > 100;
-  }
-  const bool varied_projectors = !projectors.empty () &&
-                                 *std::max_element (projectors.begin (), projectors.end ()) >
-                                     *std::min_element (projectors.begin (), projectors.end ());
   const unsigned needs = effectInfo (effect).lab_needs;
   // Single frames first: it is the most basic of the limits.
-  if ((needs & effects::kNeedsRepeatedFrames) && !repeated)
+  if ((needs & effects::kNeedsRepeatedFrames) && !facts_.any_repeated)
     return "needs at least 2 frames per pixel to measure temporal noise: it adds variance only, which single frames "
            "cannot tell from an unmodelled bias";
-  if ((needs & effects::kNeedsPlaneScene) && !any_plane)
+  if ((needs & effects::kNeedsPlaneScene) && !facts_.any_plane)
     return "needs a plane scene (meta.yaml scene: plane) to tell a static bias from the surface";
-  if ((needs & effects::kNeedsVariedProjectors) && !varied_projectors)
+  if ((needs & effects::kNeedsVariedProjectors) && !(facts_.max_projectors > facts_.min_projectors))
     return "every recording has the same number of active projectors";
   if ((needs & effects::kNeedsFrameSplit) && !splitsFrames ())
     return "needs recordings of at least 4 frames";
-  if ((needs & effects::kNeedsDepthEdges) && !any_edges)
+  if ((needs & effects::kNeedsDepthEdges) && !facts_.any_edges)
     return "no depth edges in the recordings";
-  if ((needs & effects::kNeedsIntensity) && !any_intensity)
+  if ((needs & effects::kNeedsIntensity) && !facts_.any_intensity)
     return "needs colour frames (rgb/*.png) to know each pixel's grey level";
   return std::string ();
 }

@@ -114,6 +114,18 @@ ModelLab::addRecording (const RecordingMeasurement::ConstPtr &recording)
 {
   if (!recording)
     throw pcl::BadArgumentException ("ModelLab::addRecording: the recording is null");
+  const RecordingMeasurement &r = *recording;
+  std::size_t near_edges = 0;
+  for (std::size_t i = 0; i < r.used.size (); ++i)
+    near_edges += (r.used[i] && r.edge_distance_px[i] < 3.0f) ? 1 : 0;
+  const double projectors = r.active_projectors;
+  facts_.min_projectors = recordings_.empty () ? projectors : std::min (facts_.min_projectors, projectors);
+  facts_.max_projectors = recordings_.empty () ? projectors : std::max (facts_.max_projectors, projectors);
+  facts_.any_plane = facts_.any_plane || r.plane_scene;
+  facts_.any_edges = facts_.any_edges || near_edges > 100;
+  facts_.any_repeated = facts_.any_repeated || r.frames >= 2;
+  facts_.any_intensity = facts_.any_intensity || !r.intensity.empty ();
+  facts_.all_split = facts_.all_split && r.frames >= 4;
   recordings_.push_back (recording);
   for (auto &d : data_)
     d = CachedData ();
@@ -122,10 +134,7 @@ ModelLab::addRecording (const RecordingMeasurement::ConstPtr &recording)
 bool
 ModelLab::splitsFrames () const
 {
-  for (const auto &r : recordings_)
-    if (r->frames < 4)
-      return false;
-  return true;
+  return facts_.all_split;
 }
 
 std::shared_ptr<const ModelLab::Data>

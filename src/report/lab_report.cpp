@@ -865,10 +865,10 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
       h << "<td>" << fmt (c.gain) << "</td><td>" << fmt (c.threshold, 3) << "</td><td>" << fmt (100.0 * c.effect_size, 3)
         << " % of the " << c.effect_shows_in << " error's mean square (RMS " << fmt (c.error_before, 3) << " to "
         << fmt (c.error_after, 3);
-      if (c.effect_shows_in == "correlation") // of neighbours' residuals, dimensionless, over every lag
-        h << " over lags 1 to " << ResidualDiagnosticsSettings ().max_lag << " along rows and columns)";
-      else
+      if (c.error_unit == "mm")
         h << " mm over " << fmt (100.0 * c.effect_share, 2) << (c.effect_shows_in == "offsets" ? " % of lines)" : " % of pixels)");
+      else // the neighbours' residual correlation, dimensionless, over every lag
+        h << " over lags 1 to " << ResidualDiagnosticsSettings ().max_lag << " along rows and columns)";
       h << "</td><td"
         << (c.significant ? " class=\"sig\">yes" : (c.statistically_significant ? ">no (too small)" : ">no"))
         << "</td><td>" << sdText (c.metrics.sd_rmse_mm) << "</td><td>"

@@ -105,7 +105,9 @@ struct Candidate
     * move.
     */
   double effect_size = 0;
-  std::string effect_shows_in;  ///< "sd", "bias" or "offsets" (of columns and rows): which error effect_size is of
+  /** \brief Which error effect_size is of: "sd", "bias", "offsets" (of columns and rows) or
+    * "correlation" (of neighbours' residuals). */
+  std::string effect_shows_in;
   double effect_share = 0;      ///< share of the score half's pixels where it shows
   double error_before = 0;      ///< the RMS error there under the current model refitted, in error_unit
   double error_after = 0;       ///< ... and with the candidate
@@ -244,8 +246,17 @@ private:
     std::shared_ptr<const Data> data;
   };
 
+  /** What the recordings can show (whyNotApplicable()), measured once as each is added. */
+  struct RecordingFacts
+  {
+    bool any_plane = false, any_edges = false, any_repeated = false, any_intensity = false;
+    bool all_split = true; ///< every recording has at least 4 frames (splitsFrames())
+    double min_projectors = 0, max_projectors = 0;
+  };
+
   LabSettings settings_;
   std::vector<RecordingMeasurement::ConstPtr> recordings_;
+  RecordingFacts facts_;
   mutable CachedData data_[3];
 };
 
