@@ -136,13 +136,14 @@ TEST (DataDrivenTerms, IntensityTermExplainsThePrint)
 
 // A term built from the data: horizontal bands (rows). On walls whose rows share offsets that
 // change from frame to frame (seeds the diagnostics' test does not use) the lab ranks `rows`
-// first and significant, ahead of vertical_stripes (whose frame part also absorbs them); adding
-// it brings the SD error to at most half the paper's, fits the generator's offset SD (0.12 px)
-// and band height (30 rows: about 8 bands), and the diagnostics no longer list the rows.
+// first and significant, ahead of vertical_stripes (whose frame part also absorbs them, and
+// which, a term of variance only, is not significant by the fall of the bias its weights move);
+// adding it brings the SD error to at most half the paper's, fits the generator's offset SD
+// (0.12 px) and band height (30 rows: about 8 bands), and the diagnostics no longer list the rows.
 TEST (DataDrivenTerms, RowTermExplainsTheBands)
 {
   const auto recordings = pcl_texlet_test::generatedWalls (walls (), {"row_bands"}, 1061, 20, 320);
-  pcl_texlet_test::expectFoundIn (recordings, "rows", false, 0.5);
+  pcl_texlet_test::expectFoundIn (recordings, "rows", false, 0.5, {"vertical_stripes"});
   lab::ModelLab lab{lab::LabSettings ()};
   for (const auto &r : recordings)
     lab.addRecording (r);

@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <random>
@@ -168,7 +169,10 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     PixelErrors pixels;
     c.metrics = evaluate (c.model, B, &pixels);
     const EffectSize size = effectSize (base_pixels, pixels);
-    const double falls[] = {size.sd_fall, size.bias_fall, size.line_fall};
+    // Judged on what the term can move: a term of variance only changes the bias through the
+    // surface fit's weights, which is not its signature.
+    const bool moves_mean = effectInfo (c.effect).moves_mean;
+    const double falls[] = {size.sd_fall, moves_mean ? size.bias_fall : -std::numeric_limits<double>::infinity (), size.line_fall};
     const int best = static_cast<int> (std::max_element (falls, falls + 3) - falls);
     c.effect_size = falls[best];
     c.effect_shows_in = best == 0 ? "sd" : best == 1 ? "bias" : "offsets";

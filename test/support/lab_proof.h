@@ -70,14 +70,20 @@ runLabOn (const std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr> &r
 
 /** \brief The hidden \a effect must be ranked first and significant, and adding it must bring the
   * error where it shows (the bias when \a shows_in_bias, else the SD) to at most \a max_ratio of
-  * the paper's.
+  * the paper's; none of the candidates in \a not_significant may be called significant.
   */
 inline void
 expectFoundIn (const std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr> &recordings,
-               const std::string &effect, bool shows_in_bias, double max_ratio = 0.5)
+               const std::string &effect, bool shows_in_bias, double max_ratio = 0.5,
+               const std::vector<std::string> &not_significant = {})
 {
   const LabRun run = runLabOn (recordings, "hidden effect: " + effect, true);
   ASSERT_FALSE (run.candidates.empty ());
+  for (const auto &c : run.candidates)
+    for (const auto &name : not_significant)
+      if (c.effect == name)
+        EXPECT_FALSE (c.significant) << name << ": " << c.effect_shows_in << " error " << 100.0 * c.effect_size
+                                     << " % of its mean square removed where it shows";
   EXPECT_EQ (run.candidates.front ().effect, effect);
   EXPECT_TRUE (run.candidates.front ().significant);
   const double before = shows_in_bias ? run.before.bias_rmse_mm : run.before.sd_rmse_mm;

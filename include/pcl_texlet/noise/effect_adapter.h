@@ -599,6 +599,8 @@ EffectRegistry::add ()
   {
     e.info.has_term = true;
     e.info.quantises = detail::Has<Effect, detail::RoundingOp>::value;
+    e.info.moves_mean = detail::Has<Effect, detail::BiasOp>::value || detail::Has<Effect, detail::BiasBasisOp>::value ||
+                        detail::Has<Effect, detail::TransformOp>::value || detail::Has<Effect, detail::RoundingOp>::value;
     e.term = [] () -> NoiseTerm::Ptr { return std::make_shared<EffectTermOf<Effect>> (); };
   }
   if constexpr (detail::Has<Effect, detail::LabNeedsOp>::value)

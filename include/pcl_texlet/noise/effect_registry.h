@@ -44,6 +44,9 @@ struct EffectInfo
   bool simulated = false; ///< the simulator can draw it
   bool has_term = false;  ///< the noise model has a term for it
   bool quantises = false; ///< its term rounds the disparity (NoiseTerm::quantises)
+  /** \brief Its term moves the mean: a bias (), a linear bias map or a rounding. A term of
+    * variance only moves the bias through the surface fit's weights alone. */
+  bool moves_mean = false;
   unsigned lab_needs = effects::kNeedsNothing; ///< effects::LabNeeds flags
 };
 
