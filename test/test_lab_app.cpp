@@ -340,6 +340,10 @@ TEST_F (LabApp, BadInputExitsWithOneLine)
   expectInputError (walls (), "--report OUTDIR is required");
   expectInputError (out, "no RECORDING given");
   expectInputError (out + " --add wobble" + walls (), "unknown effect 'wobble'");
+  // A variance-only term on a single frame: no temporal SD to fit it to.
+  expectInputError (out + " --add covariate:intensity " + DATA_DIR + "/kinect/milk_cartoon_all_small_clorox.pcd",
+                    "cannot add the effect 'covariate:intensity': the recordings cannot show it");
+  EXPECT_FALSE (fs::exists (workDir () / "bad")) << "a refused session leaves no report";
   expectInputError (out + " " + (workDir () / "missing").string (), "missing");
   expectInputError (out + " --model " + (workDir () / "none.yaml").string () + walls (), "none.yaml");
   expectInputError (out + " --auto -1" + walls (), "--auto");
