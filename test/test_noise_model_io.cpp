@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -276,6 +277,21 @@ TEST (EffectTerms, TheLabReadsPropertiesNotNames)
   EXPECT_THROW (makeNoiseTerm ("radial")->setSetting ("reference_radius_px", 0), pcl::BadArgumentException);
 }
 
+// A count of bands below 1 means one band: the terms read it so, a model may not hold it, and
+// the lab's fit stops there (its likelihood is flat below).
+TEST (EffectTerms, CountsOfBandsHaveALeastValue)
+{
+  for (const std::string name : {"vertical_stripes", "rows"})
+  {
+    const NoiseTerm::Ptr t = makeNoiseTerm (name);
+    EXPECT_EQ (t->lowestValue (1), 1.0) << name;
+    EXPECT_EQ (t->lowestValue (0), -std::numeric_limits<double>::infinity ()) << name;
+    EXPECT_THROW (t->setParameters ({0.1, 0.5}), pcl::BadArgumentException) << name;
+    EXPECT_NO_THROW (t->setParameters ({-0.1, 1.0})) << name;
+  }
+  EXPECT_EQ (makeNoiseTerm ("radial")->lowestValue (0), -std::numeric_limits<double>::infinity ());
+}
+
 TEST (NoiseModelYaml, RoundTripKeepsEveryTermAndValue)
 {
   const NoiseModel m = everyTerm ();
@@ -323,6 +339,9 @@ TEST (NoiseModelYaml, BadFilesNameTheProblem)
   EXPECT_NE (message ("terms:\n  - name: radial\n    parameters: {}").find ("parameter 'gain' is missing"),
              std::string::npos);
   EXPECT_NE (message ("terms:\n  - name: radial\n    parameters: {gain: .nan}").find ("not finite"), std::string::npos);
+  EXPECT_NE (message ("terms:\n  - name: vertical_stripes\n    parameters: {offset_px: 0.1, bands: 0.5}")
+                 .find ("parameter bands is 0.5, below its least value 1"),
+             std::string::npos);
   EXPECT_NE (message ("terms:\n  - name: radial\n    parameters: {gain: 1, power: 2}").find ("unknown parameter 'power'"),
              std::string::npos);
   EXPECT_NE (message ("terms:\n  - name: radial\n    settings: {colour: 2}\n    parameters: {gain: 1}")

@@ -186,7 +186,14 @@ parseNoiseModelYaml (const std::string &yaml, const std::string &source)
     }
     if (!given.empty ())
       fail (source, "term '" + name + "': unknown parameter '" + given.begin ()->first + "'");
-    term->setParameters (values);
+    try
+    {
+      term->setParameters (values);
+    }
+    catch (const pcl::BadArgumentException &e)
+    {
+      fail (source, errorText (e));
+    }
     model.add (*term);
   }
   return model;

@@ -59,7 +59,8 @@ parameterMap (const NoiseModel &m, int only_term = -1)
   return pm;
 }
 
-/** Sets the parameters of \a pm to \a x times their scales. */
+/** Sets the parameters of \a pm to \a x times their scales, each at least its lowest value (the
+  * term reads one below as that, so the likelihood is flat there and the model the same). */
 void
 setScaled (NoiseModel &m, const ParameterMap &pm, const double *x)
 {
@@ -67,9 +68,10 @@ setScaled (NoiseModel &m, const ParameterMap &pm, const double *x)
   while (k < pm.where.size ())
   {
     const std::size_t t = pm.where[k].first;
-    auto values = m.terms ()[t]->parameters ();
+    const NoiseTerm &term = *m.terms ()[t];
+    auto values = term.parameters ();
     for (; k < pm.where.size () && pm.where[k].first == t; ++k)
-      values[pm.where[k].second] = x[k] * pm.scale[k];
+      values[pm.where[k].second] = std::max (x[k] * pm.scale[k], term.lowestValue (pm.where[k].second));
     m.terms ()[t]->setParameters (values);
   }
 }

@@ -26,8 +26,17 @@ EffectTerm::setParameters (const std::vector<double> &values)
     throw pcl::BadArgumentException (msg.str ());
   }
   for (std::size_t i = 0; i < values.size (); ++i)
+  {
     if (!std::isfinite (values[i]))
       throw pcl::BadArgumentException ("noise term '" + name_ + "': parameter " + names_[i] + " is not finite");
+    if (values[i] < lowestValue (i))
+    {
+      std::ostringstream msg;
+      msg << "noise term '" << name_ << "': parameter " << names_[i] << " is " << values[i] << ", below its least value "
+          << lowestValue (i);
+      throw pcl::BadArgumentException (msg.str ());
+    }
+  }
   values_ = values;
 }
 

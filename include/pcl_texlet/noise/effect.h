@@ -150,6 +150,9 @@ struct TermParameter
   double neutral;   ///< value at which the term adds nothing (what makeNoiseTerm gives)
   double start;     ///< where the model lab starts its fit (the neutral value is a saddle)
   double typical;   ///< the lab's scale for the fit: a typical magnitude of the parameter
+  /** \brief The least meaningful value: the term reads any value below it as this one (a count
+    * of bands below 1 as 1), so the lab's fit keeps to it and a model file may not go below. */
+  double lowest = -INFINITY;
 };
 
 /** \brief Settings of a term without any. */

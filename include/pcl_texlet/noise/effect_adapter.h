@@ -337,6 +337,18 @@ public:
     return 1.0;
   }
 
+  double
+  lowestValue (std::size_t k) const override
+  {
+    if constexpr (detail::Has<Effect, detail::TermParametersOp>::value)
+    {
+      const auto specs = Effect::termParameters ();
+      if (k < specs.size ())
+        return specs[k].lowest;
+    }
+    return NoiseTerm::lowestValue (k);
+  }
+
   bool
   frameDependent () const override
   {

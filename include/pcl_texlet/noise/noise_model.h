@@ -164,6 +164,12 @@ public:
   virtual double
   typicalScale (std::size_t /*k*/) const { return 1.0; }
 
+  /** \brief The least meaningful value of parameter \a k (effects::TermParameter::lowest): the
+    * term reads a value below it as this one. Unbounded by default.
+    */
+  virtual double
+  lowestValue (std::size_t /*k*/) const { return -std::numeric_limits<double>::infinity (); }
+
   /** \brief Whether bias () depends on PixelContext::frame (then the lab predicts the frames'
     * mean offsets from it).
     */

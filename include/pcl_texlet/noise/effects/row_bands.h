@@ -40,7 +40,7 @@ struct RowBands
   static std::vector<TermParameter>
   termParameters ()
   {
-    return {{"offset_px", 0.0, 0.05, 0.02}, {"bands", 8.0, 8.0, 1.0}};
+    return {{"offset_px", 0.0, 0.05, 0.02}, {"bands", 8.0, 8.0, 1.0, 1.0}};
   }
 
   static PCL_TEXLET_HD double

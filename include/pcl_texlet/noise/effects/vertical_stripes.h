@@ -103,7 +103,8 @@ struct VerticalStripes
   static std::vector<TermParameter>
   termParameters ()
   {
-    return {{"offset_px", 0.0, 0.05, 0.02}, {"bands", double (SimParameters ().bands), double (SimParameters ().bands), 1.0}};
+    return {{"offset_px", 0.0, 0.05, 0.02},
+            {"bands", double (SimParameters ().bands), double (SimParameters ().bands), 1.0, 1.0}};
   }
 
   static PCL_TEXLET_HD double
