@@ -9,10 +9,13 @@
 #include "lab_data.h"
 #include "likelihood.h"
 
+#include <pcl_texlet/kernels/normal_blocks.h>
 #include <pcl_texlet/kernels/shared_noise.h>
 #include <pcl_texlet/kernels/structured_light.h>
 
 #include <pcl/exceptions.h>
+
+#include <Eigen/Core>
 
 #include <omp.h>
 
@@ -21,7 +24,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <random>
 #include <sstream>
 
 namespace pcl
@@ -204,6 +206,24 @@ finishOffsets (std::vector<double> &offset, const std::vector<double> &weight2, 
       offset[k] = 0;
 }
 
+/** Sum of a[i] b[i], i < n, vectorised (Eigen reassociates the float sum). */
+double
+dot (const float *a, const float *b, int n)
+{
+  return static_cast<double> ((Eigen::Map<const Eigen::ArrayXf> (a, n) * Eigen::Map<const Eigen::ArrayXf> (b, n)).sum ());
+}
+
+/** Adds the pairs (x[i], y[i]), i < n, of lag \a k in direction \a d of half \a h to \a pairs:
+  * x, y are 0 where invalid, xx, yy their squares and vx, vy 1 where valid, 0 where not. */
+void
+addPairs (const float *x, const float *y, const float *xx, const float *yy, const float *vx, const float *vy, int n,
+          NeighbourPairs &pairs, int h, int d, int k)
+{
+  pairs.products[h][d][k - 1] += dot (x, y, n);
+  pairs.squares[h][d][k - 1] += dot (xx, vy, n) + dot (yy, vx, n);
+  pairs.count[h][d][k - 1] += dot (vx, vy, n);
+}
+
 /** Adds the statistics of one recording's depths \a y (frames x pixels, mm, NaN: none; the
   * model's drift taken out) to \a s. \a e is scratch of the same size.
   * Offsets are fitted in the shape of a disparity offset (a pattern shift moves a pixel's depth
@@ -219,35 +239,38 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
   e.assign (y.size (), kNaNf);
   std::vector<double> bias (n, kNaNf), vsum (n, 0.0), w (n, 0.0);
   std::vector<int> count (n, 0);
+  // Frame by frame, in memory order: a pixel's samples lie a frame apart.
+  std::vector<double> sum (n, 0.0), scale (n, 0.0);
+  for (int t = 0; t < T; ++t)
+  {
+    const float *yt = y.data () + static_cast<std::size_t> (t) * n;
+    for (std::size_t i = 0; i < n; ++i)
+      if (std::isfinite (yt[i]) && std::isfinite (rm.sd[i]))
+      {
+        sum[i] += yt[i];
+        ++count[i];
+      }
+  }
   for (std::size_t i = 0; i < n; ++i)
   {
-    if (!std::isfinite (rm.sd[i]))
-      continue;
-    double sum = 0;
-    int c = 0;
-    for (int t = 0; t < T; ++t)
-    {
-      const float v = y[t * n + i];
-      if (std::isfinite (v))
-      {
-        sum += v;
-        ++c;
-      }
-    }
+    const int c = count[i];
     if (c < 2)
+    {
+      count[i] = 0;
       continue;
-    const double mean = sum / c;
-    count[i] = c;
-    bias[i] = (mean - rm.mean[i]) / rm.sd[i];
+    }
+    sum[i] /= c; // the pixel's temporal mean
+    bias[i] = (sum[i] - rm.mean[i]) / rm.sd[i];
     w[i] = rm.J[i] / rm.sd[i];
     // a sample less its pixel's temporal mean has variance sd^2 (1 - 1/c) under the model
-    const double scale = 1.0 / (rm.sd[i] * std::sqrt (1.0 - 1.0 / c));
-    for (int t = 0; t < T; ++t)
-    {
-      const float v = y[t * n + i];
-      if (std::isfinite (v))
-        e[t * n + i] = static_cast<float> ((v - mean) * scale);
-    }
+    scale[i] = 1.0 / (rm.sd[i] * std::sqrt (1.0 - 1.0 / c));
+  }
+  for (int t = 0; t < T; ++t)
+  {
+    const std::size_t o = static_cast<std::size_t> (t) * n;
+    for (std::size_t i = 0; i < n; ++i)
+      if (count[i] && std::isfinite (y[o + i]))
+        e[o + i] = static_cast<float> ((y[o + i] - sum[i]) * scale[i]);
   }
   // The recording's overall scale out: what is left are shares of its residual variance.
   double ss = 0, cnt = 0, w2 = 0;
@@ -274,6 +297,7 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
 
   std::vector<double> row (H), col (W), row_w (H), col_w (W);
   std::vector<int> row_n (H), col_n (W);
+  std::vector<float> mask (y.size (), 0.0f), square (n);
   double previous_F = std::numeric_limits<double>::quiet_NaN ();
   for (int t = 0; t < T; ++t)
   {
@@ -290,6 +314,7 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
     if (Fn < 2 || !(Fw > 0))
     {
       previous_F = std::numeric_limits<double>::quiet_NaN ();
+      std::fill (f, f + n, 0.0f); // masked out: no pairs over time
       continue;
     }
     F /= Fw;
@@ -337,28 +362,27 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
         s.pairs.samples[t & 1] += 1;
         vsum[i] += double (x) * x;
       }
+    // Invalid samples become 0 with a mask of 0: a lag's sums are then dot products of whole
+    // lines (products, squares where the partner is valid, valid pairs).
+    float *valid = mask.data () + static_cast<std::size_t> (t) * n;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      valid[i] = std::isfinite (f[i]) ? 1.0f : 0.0f;
+      if (!valid[i])
+        f[i] = 0.0f;
+      square[i] = f[i] * f[i];
+    }
     const int half = t & 1;
-    auto pair = [&] (int d, int k, double x, double y) {
-      s.pairs.products[half][d][k - 1] += x * y;
-      s.pairs.squares[half][d][k - 1] += x * x + y * y;
-      s.pairs.count[half][d][k - 1] += 1;
-    };
     for (int v = 0; v < H; ++v)
     {
-      const float *line = f + static_cast<std::size_t> (v) * W;
-      for (int u = 0; u < W; ++u)
+      const std::size_t o = static_cast<std::size_t> (v) * W;
+      for (int k = 1; k <= lags && k < W; ++k)
+        addPairs (f + o, f + o + k, square.data () + o, square.data () + o + k, valid + o, valid + o + k, W - k,
+                  s.pairs, half, 0, k);
+      for (int k = 1; k <= lags && v + k < H; ++k)
       {
-        if (!std::isfinite (line[u]))
-          continue;
-        for (int k = 1; k <= lags && u + k < W; ++k)
-          if (std::isfinite (line[u + k]))
-            pair (0, k, line[u], line[u + k]);
-        for (int k = 1; k <= lags && v + k < H; ++k)
-        {
-          const float below = line[u + static_cast<std::size_t> (k) * W];
-          if (std::isfinite (below))
-            pair (1, k, line[u], below);
-        }
+        const std::size_t b = o + static_cast<std::size_t> (k) * W;
+        addPairs (f + o, f + b, square.data () + o, square.data () + b, valid + o, valid + b, W, s.pairs, half, 1, k);
       }
     }
   }
@@ -373,22 +397,16 @@ accumulate (const RecordingModel &rm, std::size_t r, const std::vector<float> &y
       s.bin_b[c][b] += bias[i];
       s.bin_n[c][b] += 1;
     }
-  for (std::size_t i = 0; i < n; ++i)
-    if (count[i])
-      for (int t = 0; t < T; ++t)
+  // Over time: frame t against frame t + k, line by line (each line's sum in float, exact enough
+  // for its W products, the lines' in double).
+  for (int t = 0; t < T; ++t)
+    for (int k = 1; k <= lags && t + k < T; ++k)
+      for (int v = 0; v < H; ++v)
       {
-        const float x = e[t * n + i];
-        if (!std::isfinite (x))
-          continue;
-        for (int k = 1; k <= lags && t + k < T; ++k)
-        {
-          const float later = e[(t + k) * n + i];
-          if (std::isfinite (later))
-          {
-            s.time_num[k - 1] += double (x) * later;
-            s.time_pairs[k - 1] += 1;
-          }
-        }
+        const std::size_t a = static_cast<std::size_t> (t) * n + static_cast<std::size_t> (v) * W,
+                          b = a + static_cast<std::size_t> (k) * n;
+        s.time_num[k - 1] += dot (e.data () + a, e.data () + b, W);
+        s.time_pairs[k - 1] += dot (mask.data () + a, mask.data () + b, W);
       }
 }
 
@@ -422,19 +440,20 @@ ar1VarianceAboutMean (double a, std::size_t n)
 }
 
 /** A replica: the model's mean plus its noise (independent, column, row, frame parts) on the
-  * recording's valid samples, rounded to whole millimetres as the recording is. */
+  * recording's valid samples, rounded to whole millimetres as the recording is. Frame \a t of
+  * replica \a replica of recording \a r draws its normals from Philox blocks (seed, r,
+  * replica x frames + t), so that a replica does not depend on the threads. */
 void
-replicaDepths (const RecordingModel &rm, std::mt19937_64 &rng, std::vector<float> &y)
+replicaDepths (const RecordingModel &rm, std::uint32_t seed, std::uint32_t r, int replica, std::vector<float> &y)
 {
   const RecordingMeasurement &m = *rm.m;
-  const int W = m.width;
-  const std::size_t n = static_cast<std::size_t> (W) * m.height;
-  std::normal_distribution<float> normal;
+  const int W = m.width, H = m.height;
+  const std::size_t n = static_cast<std::size_t> (W) * H;
   y.assign (n * m.frames, kNaNf);
-  std::vector<float> col (W), row (m.height);
+  std::vector<float> col (W), row (H);
   // Offsets along a line whose neighbours correlate a, about the frame's offset (drawn apart):
   // an AR(1) sequence less its mean, scaled to unit expected variance about that mean.
-  const auto drawLine = [&] (double a, std::vector<float> &line) {
+  const auto drawLine = [] (double a, const float *normal, std::vector<float> &line) {
     const double within = ar1VarianceAboutMean (a, line.size ());
     if (!(within > 1e-9))
     {
@@ -445,7 +464,7 @@ replicaDepths (const RecordingModel &rm, std::mt19937_64 &rng, std::vector<float
     double sum = 0;
     for (std::size_t k = 0; k < line.size (); ++k)
     {
-      line[k] = k == 0 ? normal (rng) : static_cast<float> (a) * line[k - 1] + b * normal (rng);
+      line[k] = k == 0 ? normal[0] : static_cast<float> (a) * line[k - 1] + b * normal[k];
       sum += line[k];
     }
     const float centre = static_cast<float> (sum / line.size ()), scale = static_cast<float> (1.0 / std::sqrt (within));
@@ -454,32 +473,36 @@ replicaDepths (const RecordingModel &rm, std::mt19937_64 &rng, std::vector<float
   };
   // Noise shared over a window: white noise on the cells, its mean over each pixel's window
   // times the window's width (unit variance), as kernels::WindowDraw draws it.
-  const int w = rm.window_px, H = m.height;
-  std::vector<float> cell, across, window;
+  const int w = rm.window_px;
+  const std::size_t cells = w > 1 ? static_cast<std::size_t> (W + w - 1) * (H + w - 1) : 0;
+  std::vector<float> across, window;
   if (w > 1)
   {
-    cell.resize (static_cast<std::size_t> (W + w - 1) * (H + w - 1));
     across.resize (static_cast<std::size_t> (W) * (H + w - 1));
     window.resize (n);
   }
+  // A frame's normals: the frame's offset, the columns', the rows', the cells', the pixels'.
+  const std::size_t draws = 1 + W + H + cells + n;
+  const int blocks = static_cast<int> ((draws + 3) / 4);
+  std::vector<float> normal (4 * static_cast<std::size_t> (blocks));
+  std::vector<std::uint32_t> words (4 * static_cast<std::size_t> (blocks));
   for (int t = 0; t < m.frames; ++t)
   {
-    const float F = normal (rng);
-    drawLine (rm.a, col);
-    drawLine (rm.a_row, row);
+    kernels::normalBlocks (seed, r, static_cast<std::uint32_t> (replica * m.frames + t), 0, blocks, words.data (),
+                           normal.data ());
+    const float F = normal[0];
+    drawLine (rm.a, normal.data () + 1, col);
+    drawLine (rm.a_row, normal.data () + 1 + W, row);
+    const float *cell = normal.data () + 1 + W + H, *own = cell + cells;
     if (w > 1)
-    {
-      for (float &c : cell)
-        c = normal (rng);
-      kernels::windowMeans (cell.data (), W, H, w, across.data (), window.data ());
-    }
+      kernels::windowMeans (cell, W, H, w, across.data (), window.data ());
     for (std::size_t i = 0; i < n; ++i)
       if (m.at (t, i) > 0 && std::isfinite (rm.sd[i]))
       {
-        float own = normal (rng);
+        float e = own[i];
         if (w > 1 && rm.window[i] > 0)
-          own = std::sqrt (1.0f - rm.window[i]) * own + std::sqrt (rm.window[i]) * window[i];
-        y[t * n + i] = std::round (rm.mean[i] + rm.own[i] * own + rm.column[i] * col[i % W] + rm.row[i] * row[i / W] +
+          e = std::sqrt (1.0f - rm.window[i]) * e + std::sqrt (rm.window[i]) * window[i];
+        y[t * n + i] = std::round (rm.mean[i] + rm.own[i] * e + rm.column[i] * col[i % W] + rm.row[i] * row[i / W] +
                                    rm.frame[i] * F);
       }
   }
@@ -666,20 +689,20 @@ diagnoseResiduals (const ModelLab &lab, const NoiseModel &model, const ResidualD
   const int lags = settings.max_lag;
   const int runs = settings.replicas + 1; // run 0: the data
   std::vector<Stats> stats (runs);
+  const auto seed = static_cast<std::uint32_t> (settings.seed ^ (settings.seed >> 32));
   const int threads = lab.settings ().threads > 0 ? lab.settings ().threads : omp_get_max_threads ();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (int k = 0; k < runs; ++k)
   {
     Stats &s = stats[k];
     s.init (lags, bins);
-    std::mt19937_64 rng (settings.seed * 1000003u + static_cast<std::uint64_t> (k));
     std::vector<float> y, e;
     for (std::size_t r = 0; r < recs.size (); ++r)
     {
       if (k == 0)
         measuredDepths (recs[r], y);
       else
-        replicaDepths (recs[r], rng, y);
+        replicaDepths (recs[r], seed, static_cast<std::uint32_t> (r), k - 1, y);
       accumulate (recs[r], r, y, cov, lags, e, s);
     }
   }
