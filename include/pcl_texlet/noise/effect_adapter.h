@@ -328,25 +328,15 @@ public:
   double
   typicalScale (std::size_t k) const override
   {
-    if constexpr (detail::Has<Effect, detail::TermParametersOp>::value)
-    {
-      const auto specs = Effect::termParameters ();
-      if (k < specs.size ())
-        return specs[k].typical;
-    }
-    return 1.0;
+    const effects::TermParameter *p = declaredParameter (k);
+    return p ? p->typical : 1.0;
   }
 
   double
   lowestValue (std::size_t k) const override
   {
-    if constexpr (detail::Has<Effect, detail::TermParametersOp>::value)
-    {
-      const auto specs = Effect::termParameters ();
-      if (k < specs.size ())
-        return specs[k].lowest;
-    }
-    return NoiseTerm::lowestValue (k);
+    const effects::TermParameter *p = declaredParameter (k);
+    return p ? p->lowest : NoiseTerm::lowestValue (k);
   }
 
   bool
@@ -442,6 +432,20 @@ public:
   termSettings () const { return settings_; }
 
 private:
+  /** The effect's declaration of its k-th parameter; null where it declares none (a grid's
+    * nodes are named by its settings). Built once: the lab's fit asks per evaluation. */
+  static const effects::TermParameter *
+  declaredParameter (std::size_t k)
+  {
+    if constexpr (detail::Has<Effect, detail::TermParametersOp>::value)
+    {
+      static const std::vector<effects::TermParameter> specs = Effect::termParameters ();
+      if (k < specs.size ())
+        return &specs[k];
+    }
+    return nullptr;
+  }
+
   /** Checks \a s and makes it the term's; an effect whose parameters depend on its settings
     * (a grid's nodes) gets new names and neutral values.
     */
