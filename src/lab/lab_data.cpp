@@ -61,6 +61,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
   std::unordered_map<std::uint64_t, int> bin_of, qbin_of;
   // Phase bins on the lattice the quantisation term starts from (quantisation_lattice.h).
   const QuantisationLattice lattice = quantisationLattice (recs);
+  const std::vector<double> distortion_nodes = distortion ? distortion->parameters () : std::vector<double> ();
   auto stepOf = [&] (const RecordingMeasurement &m) {
     return lattice.stepPx (m.fb (), m.camera.disparity_subpixel > 0 ? m.camera.disparity_subpixel
                                                                    : CameraInfo ().disparity_subpixel);
@@ -182,7 +183,7 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
         const int eb = e < 2.0f ? 0 : (e < 5.0f ? 1 : 2);
         // Grey level in 8 bins where the recording has colour frames (terms of the intensity).
         const int ib = m.intensity.empty () ? 0 : std::min (7, static_cast<int> (m.intensity[i] * 8.0f));
-        const double moved_px = distortion ? linearBiasPx (*distortion, distortion->parameters (), u, v,
+        const double moved_px = distortion ? linearBiasPx (*distortion, distortion_nodes, u, v,
                                                            m.surface_mm[i], m.fb ())
                                            : 0.0;
         const double phase = subStepPhase (fb1000 / m.surface_mm[i] + moved_px, stepOf (m), lattice.phase);

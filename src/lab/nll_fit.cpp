@@ -228,8 +228,15 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
   bool has_static = false; // a rounding or a linear bias term: the static fit changes with the rest
   for (const auto &t : model.terms ())
     has_static = has_static || t->quantises () || t->linearBiasSupport () > 0;
-  const GridFit grid_fit = new_term >= 0 && model.terms ()[new_term]->linearBiasSupport () > 0 ? GridFit::nodes_and_shape
-                                                                                              : GridFit::nodes;
+  // A new grid term's shape along depth is chosen in the first static fit, its nodes in every
+  // one: the shape's score is the static NLL, which the variances fitted next hardly move
+  // (the grid is a bias), and each shape tried is one more solve (docs/model_lab.md section 9).
+  GridFit grid_fit = new_term >= 0 && model.terms ()[new_term]->linearBiasSupport () > 0 ? GridFit::nodes_and_shape
+                                                                                        : GridFit::nodes;
+  auto shapeChosen = [&] {
+    if (grid_fit == GridFit::nodes_and_shape)
+      grid_fit = GridFit::nodes;
+  };
   const int outer = has_static ? std::max (1, settings.outer_iterations) : std::min (2, std::max (1, settings.outer_iterations));
   if (new_term >= 0)
   {
@@ -262,6 +269,7 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
       term->setParameters (best_values);
       StaticState s;
       fitObjective (model, d, recs, s, grid_fit);
+      shapeChosen ();
       ceresRun (model, own, d, s, settings);
     }
   }
@@ -269,6 +277,7 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
   {
     StaticState s;
     fitObjective (model, d, recs, s, grid_fit);
+    shapeChosen ();
     ceresRun (model, pm, d, s, settings);
   }
   StaticState s;

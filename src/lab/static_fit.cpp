@@ -6,6 +6,8 @@
 
 #include <Eigen/Dense>
 
+#include <omp.h>
+
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -74,6 +76,7 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
       pre_bias[b] = m.bias_mm;
     }
     s.pixel_bias.resize (d.px.size ());
+    const std::vector<double> moved_nodes = mv.grid ? mv.grid->parameters () : std::vector<double> ();
     const int P = static_cast<int> (d.px.size ());
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < P; ++k)
@@ -81,7 +84,7 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
       const PixelRow &p = d.px[k];
       const RecordingMeasurement &m = *recs[p.rec];
       // The rounding sees the disparity that the distortion (as the model has it now) has moved.
-      const double moved_px = mv.grid ? linearBiasPx (*mv.grid, mv.grid->parameters (), double (p.index % m.width),
+      const double moved_px = mv.grid ? linearBiasPx (*mv.grid, moved_nodes, double (p.index % m.width),
                                                       double (p.index / m.width), m.surface_mm[p.index], m.fb ())
                                       : 0.0;
       const double d0 = 1000.0 * m.fb () / m.surface_mm[p.index] + moved_px - pre_bias[p.qbin] / p.J;
@@ -112,40 +115,61 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
     }
     return t;
   };
-  for (const PixelRow &p : d.px)
+  const int P = static_cast<int> (d.px.size ());
+  // The normal equations summed in parallel, one set per thread; with a grid term this loop
+  // is most of a solve, and the lab solves hundreds of times (docs/model_lab.md section 9).
+  // Summed in thread order, so that a run repeats to the last bit.
+  std::vector<Eigen::MatrixXd> A_parts (omp_get_max_threads ());
+  std::vector<Eigen::VectorXd> rhs_parts (A_parts.size ());
+#pragma omp parallel
   {
-    if (!d.plane[p.rec] || !p.inlier)
-      continue;
-    const int b = mv.quantised ? p.qbin : p.bin;
-    const double w = p.n * p.J * p.J / (s.bin_var[b] + s.bin_shared[b]);
-    const double t = target (p);
-    const double row[3] = {1.0, p.x, p.y};
-    const int o = 3 * p.rec;
-    for (int a = 0; a < 3; ++a)
+    Eigen::MatrixXd &A_part = A_parts[omp_get_thread_num ()];
+    Eigen::VectorXd &rhs_part = rhs_parts[omp_get_thread_num ()];
+    A_part = Eigen::MatrixXd::Zero (N, N);
+    rhs_part = Eigen::VectorXd::Zero (N);
+#pragma omp for schedule(static)
+    for (int i = 0; i < P; ++i)
     {
-      rhs[o + a] += w * row[a] * t;
-      for (int c = 0; c < 3; ++c)
-        A (o + a, o + c) += w * row[a] * row[c];
-    }
-    if (G)
-    {
-      int idx[kMaxBiasBasis];
-      double wt[kMaxBiasBasis];
-      gridAt (p, idx, wt);
-      for (int k = 0; k < K; ++k)
+      const PixelRow &p = d.px[i];
+      if (!d.plane[p.rec] || !p.inlier)
+        continue;
+      const int b = mv.quantised ? p.qbin : p.bin;
+      const double w = p.n * p.J * p.J / (s.bin_var[b] + s.bin_shared[b]);
+      const double t = target (p);
+      const double row[3] = {1.0, p.x, p.y};
+      const int o = 3 * p.rec;
+      for (int a = 0; a < 3; ++a)
       {
-        const int gk = static_cast<int> (3 * R) + idx[k];
-        rhs[gk] += w * wt[k] * t;
-        for (int a = 0; a < 3; ++a)
+        rhs_part[o + a] += w * row[a] * t;
+        for (int c = 0; c < 3; ++c)
+          A_part (o + a, o + c) += w * row[a] * row[c];
+      }
+      if (G)
+      {
+        int idx[kMaxBiasBasis];
+        double wt[kMaxBiasBasis];
+        gridAt (p, idx, wt);
+        for (int k = 0; k < K; ++k)
         {
-          A (gk, o + a) += w * wt[k] * row[a];
-          A (o + a, gk) += w * wt[k] * row[a];
+          const int gk = static_cast<int> (3 * R) + idx[k];
+          rhs_part[gk] += w * wt[k] * t;
+          for (int a = 0; a < 3; ++a)
+            A_part (gk, o + a) += w * wt[k] * row[a];
+          for (int l = 0; l < K; ++l)
+            A_part (gk, static_cast<int> (3 * R) + idx[l]) += w * wt[k] * wt[l];
         }
-        for (int l = 0; l < K; ++l)
-          A (gk, static_cast<int> (3 * R) + idx[l]) += w * wt[k] * wt[l];
       }
     }
   }
+  for (std::size_t t = 0; t < A_parts.size (); ++t)
+    if (A_parts[t].size ())
+    {
+      A += A_parts[t];
+      rhs += rhs_parts[t];
+    }
+  // The grid-plane block was summed on one side only.
+  if (G)
+    A.topRightCorner (3 * R, G) = A.bottomLeftCorner (G, 3 * R).transpose ();
   // A small ridge keeps nodes without data at zero.
   const double scale = A.diagonal ().cwiseAbs ().maxCoeff () + 1.0, ridge = 1e-9 * scale;
   for (int k = 0; k < N; ++k)
@@ -184,26 +208,37 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
     s.grid.assign (sol.data () + 3 * R, sol.data () + N);
 
   s.ss_static.assign (bins.size (), 0.0);
-  for (const PixelRow &p : d.px)
+  std::vector<std::vector<double>> ss_parts (omp_get_max_threads ());
+#pragma omp parallel
   {
-    const RecordingMeasurement &m = *recs[p.rec];
-    double predicted;
-    if (d.plane[p.rec])
-      predicted = s.planes[p.rec].dot (Eigen::Vector3d (1.0, p.x, p.y));
-    else
-      predicted = 1000.0 * m.fb () / m.surface_mm[p.index];
-    if (G)
+    std::vector<double> &ss_part = ss_parts[omp_get_thread_num ()];
+    ss_part.assign (bins.size (), 0.0);
+#pragma omp for schedule(static)
+    for (int i = 0; i < P; ++i)
     {
-      int idx[kMaxBiasBasis];
-      double wt[kMaxBiasBasis];
-      gridAt (p, idx, wt);
-      for (int k = 0; k < K; ++k)
-        predicted += wt[k] * s.grid[idx[k]];
+      const PixelRow &p = d.px[i];
+      const RecordingMeasurement &m = *recs[p.rec];
+      double predicted;
+      if (d.plane[p.rec])
+        predicted = s.planes[p.rec].dot (Eigen::Vector3d (1.0, p.x, p.y));
+      else
+        predicted = 1000.0 * m.fb () / m.surface_mm[p.index];
+      if (G)
+      {
+        int idx[kMaxBiasBasis];
+        double wt[kMaxBiasBasis];
+        gridAt (p, idx, wt);
+        for (int k = 0; k < K; ++k)
+          predicted += wt[k] * s.grid[idx[k]];
+      }
+      const double e = p.J * (target (p) - predicted);
+      const int b = mv.quantised ? p.qbin : p.bin;
+      ss_part[b] += p.n * e * e;
     }
-    const double e = p.J * (target (p) - predicted);
-    const int b = mv.quantised ? p.qbin : p.bin;
-    s.ss_static[b] += p.n * e * e;
   }
+  for (const std::vector<double> &part : ss_parts)
+    for (std::size_t b = 0; b < part.size (); ++b)
+      s.ss_static[b] += part[b];
 }
 
 } // namespace
