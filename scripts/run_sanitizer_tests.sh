@@ -7,7 +7,9 @@
 # without adding sanitizer coverage: CUDA (nvcc compiles the same kernels there) and the Google
 # Benchmark programs. The library, where the tests spend their time, is compiled at -O2; the apps
 # and tests at -Og, which halves the compile of their PCL-heavy code (docs/fuzzing.md). -g0 keeps
-# compiling cheap (ASan still names functions and files in its reports).
+# compiling cheap (ASan still names functions and files in its reports). A unity build compiles
+# each library's sources as one file: their headers (PCL, Eigen, Ceres) are parsed once per
+# library, not once per source (docs/fuzzing.md, "In CI").
 # Extra arguments go to cmake's configure. Set PCL_TEXLET_SANITIZE_JOBS to change parallelism.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,7 +22,7 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_CXX_FLAGS_RELEASE="-Og -g0 -DNDEBUG" -DCMAKE_C_FLAGS_RELEASE="-Og -g0 -DNDEBUG" \
   -DPCL_TEXLET_LIBRARY_COMPILE_OPTIONS=-O2 \
   -DPCL_TEXLET_SANITIZE=ON -DPCL_TEXLET_WITH_CUDA=OFF -DCMAKE_CUDA_COMPILER= \
-  -DPCL_TEXLET_BUILD_BENCHMARKS=OFF "${launcher[@]}" "$@"
+  -DPCL_TEXLET_BUILD_BENCHMARKS=OFF -DCMAKE_UNITY_BUILD=ON "${launcher[@]}" "$@"
 cmake --build build-asan -j "$jobs"
 t1=$(date +%s)
 
