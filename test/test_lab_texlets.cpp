@@ -109,6 +109,19 @@ TEST (ModelLabTexlets, PaperModelIsCalibratedOnPaperNoise)
   print ("paper noise, paper model, automatic RANSAC threshold, P the inliers' mean", m);
   EXPECT_GT (m.ratioP (), 30.0);
   EXPECT_NEAR (m.ratioN (), 1.0, 0.4);
+
+  // The lab's score half: the odd frames only (15 of the 30), evenly spaced over them.
+  lab::TexletConsistencySettings odd;
+  odd.max_frames = 20;
+  odd.frame_parity = 1;
+  const lab::TexletConsistency o = lab::texletConsistency (recs, NoiseModel::paper (), odd);
+  odd.frame_parity = -1;
+  const lab::TexletConsistency every = lab::texletConsistency (recs, NoiseModel::paper (), odd);
+  EXPECT_EQ (o.frames, 5 * 15);
+  EXPECT_EQ (every.frames, 5 * 20);
+  EXPECT_NEAR (o.medianRatioP (), 1.0, 0.25);
+  EXPECT_NEAR (o.medianRatioN (), 1.0, 0.25);
+  EXPECT_LT (o.logRatioError (), std::log (1.25));
 }
 
 /** NEES under the paper's model and after the lab adds \a effect (fitted on the recordings). */
@@ -235,4 +248,16 @@ TEST (ModelLabTexlets, BadInput)
   s.max_frames = 2;
   EXPECT_THROW (lab::texletConsistency ({nullptr}, NoiseModel::paper (), s), pcl::BadArgumentException);
   EXPECT_THROW (lab::texletConsistency ({nullptr}, NoiseModel::paper ()), pcl::BadArgumentException);
+  lab::TexletConsistencySettings parity;
+  parity.frame_parity = 2;
+  try
+  {
+    lab::texletConsistency ({nullptr}, NoiseModel::paper (), parity); // the settings are checked first
+    ADD_FAILURE () << "frame_parity 2 accepted";
+  }
+  catch (const pcl::BadArgumentException &e)
+  {
+    EXPECT_NE (std::string (e.what ()).find ("frame_parity"), std::string::npos) << e.what ();
+  }
+  EXPECT_TRUE (std::isnan (lab::TexletConsistency ().logRatioError ())); // nothing compared
 }

@@ -181,7 +181,8 @@ run (int argc, char **argv)
       if (c.applicable)
         std::cout << " gain " << c.gain << " (threshold " << c.threshold << "), " << c.effect_shows_in << " error "
                   << 100.0 * c.effect_size << " % of its squared error removed where it shows"
-                  << (c.significant ? " significant" : (c.statistically_significant ? " (detectable, too small)" : ""));
+                  << (c.significant ? " significant"
+                                    : c.statistically_significant ? " (" + lab::candidateVerdict (c) + ")" : std::string ());
       else
         std::cout << " not testable (" << c.note << ")";
       std::cout << "\n";

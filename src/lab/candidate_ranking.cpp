@@ -242,12 +242,57 @@ ModelLab::rankCandidates (const NoiseModel &current) const
     c.statistically_significant = c.gain > c.threshold && c.gain > 0 && c.total_gain >= settings_.min_total_gain_nats;
     c.significant = c.statistically_significant && c.effect_size >= settings_.min_effect_size;
   }
+  // The texlets of the statistically significant candidates, on the frames they were not fitted on
+  // (all frames where the halves are pixel blocks), against the refitted current model's there.
+  if (std::any_of (out.begin (), out.end (), [] (const Candidate &c) { return c.applicable && c.statistically_significant; }))
+  {
+    TexletConsistencySettings texlet_settings;
+    texlet_settings.threads = static_cast<unsigned> (std::max (0, settings_.threads));
+    texlet_settings.frame_parity = splitsFrames () ? 1 : -1;
+    const std::string where = splitsFrames () ? "on the score half's frames" : "on every frame (the halves are pixel blocks)";
+    say ("lab: texlet NEES " + where + " under the current model refitted");
+    const double before = texletConsistency (recordings_, base, texlet_settings).logRatioError ();
+    for (Candidate &c : out)
+      if (c.applicable && c.statistically_significant)
+      {
+        say ("lab: texlet NEES " + where + " with " + c.effect);
+        c.metrics.texlets = texletConsistency (recordings_, c.model, texlet_settings);
+        c.texlet_error_before = before;
+        c.texlet_error_after = c.metrics.texlets.logRatioError ();
+        // A term of variance that makes the covariances users consume less honest is not one to
+        // add, whatever the pixels gain (NaN, nothing compared, vetoes nothing). A term that moves
+        // the mean is exempt: texlets do not take the model's bias off their depths, so turning
+        // spread into a modelled bias (drift, a rounding staircase) takes variance out of their
+        // covariances while their P still moves (docs/model_lab.md section 4).
+        if (c.significant && !effectInfo (c.effect).moves_mean &&
+            c.texlet_error_after > c.texlet_error_before + settings_.max_texlet_worsening)
+        {
+          c.significant = false;
+          c.texlets_less_honest = true;
+          c.note += std::string (c.note.empty () ? "" : "; ") + "makes the texlets' covariances less honest on the " +
+                    "score half (|ln median NEES ratio| " + std::to_string (c.texlet_error_before) + " -> " +
+                    std::to_string (c.texlet_error_after) + ")";
+        }
+      }
+  }
   std::stable_sort (out.begin (), out.end (), [] (const Candidate &a, const Candidate &b) {
     if (a.applicable != b.applicable)
       return a.applicable;
     return a.gain > b.gain;
   });
   return out;
+}
+
+std::string
+candidateVerdict (const Candidate &c)
+{
+  if (!c.applicable)
+    return "not testable";
+  if (c.significant)
+    return "significant";
+  if (!c.statistically_significant)
+    return "not significant";
+  return c.texlets_less_honest ? "detectable, makes the texlets less honest" : "detectable, too small";
 }
 
 std::string

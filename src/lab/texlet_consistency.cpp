@@ -75,13 +75,24 @@ neesOnRange (const Eigen::Matrix3d &c, const Eigen::Vector3d &x, int &rank)
   return nees;
 }
 
-/** The texlets of \a used_frames evenly spaced frames of \a rec, from PointT clouds (with the
-  * recording's grey level when PointT has colour). The default hexagonal grid depends only on the
-  * image size, so texlet k is the same centre pixel in every frame. */
+/** The frames of \a rec the comparison may use (settings.frame_parity), in order. */
+std::vector<int>
+eligibleFrames (const RecordingMeasurement &rec, const TexletConsistencySettings &settings)
+{
+  std::vector<int> frames;
+  for (int t = 0; t < rec.frames; ++t)
+    if (settings.frame_parity < 0 || t % 2 == settings.frame_parity)
+      frames.push_back (t);
+  return frames;
+}
+
+/** The texlets of \a used_frames frames of \a rec evenly spaced over \a eligible, from PointT
+  * clouds (with the recording's grey level when PointT has colour). The default hexagonal grid
+  * depends only on the image size, so texlet k is the same centre pixel in every frame. */
 template <typename PointT>
 std::vector<pcl::PointCloud<pcl::Texlet>>
 frameTexlets (const RecordingMeasurement &rec, const NoiseModel &model, const TexletConsistencySettings &settings,
-              int used_frames)
+              const std::vector<int> &eligible, int used_frames)
 {
   pcl::TexletEstimation<PointT, pcl::Texlet> estimation;
   estimation.setNoiseModel (model);
@@ -110,9 +121,10 @@ frameTexlets (const RecordingMeasurement &rec, const NoiseModel &model, const Te
   auto cloud = std::make_shared<pcl::PointCloud<PointT>> ();
   for (int f = 0; f < used_frames; ++f)
   {
-    const int t = used_frames > 1 ? static_cast<int> (std::lround (static_cast<double> (f) * (rec.frames - 1) /
-                                                                   (used_frames - 1)))
-                                  : 0;
+    const int last = static_cast<int> (eligible.size ()) - 1;
+    const int t = eligible[used_frames > 1 ? static_cast<std::size_t> (std::lround (static_cast<double> (f) * last /
+                                                                                 (used_frames - 1)))
+                                           : 0];
     frame.name = rec.name + " frame " + std::to_string (t);
     frame.depth_mm.assign (rec.depth_mm.begin () + static_cast<std::ptrdiff_t> (t * n_px),
                            rec.depth_mm.begin () + static_cast<std::ptrdiff_t> ((t + 1) * n_px));
@@ -140,9 +152,10 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
 {
   if (recordings.empty ())
     throw pcl::BadArgumentException ("texletConsistency: no recording given");
-  if (settings.max_frames < 3 || settings.min_frames < 2 || settings.radius_px < 1 || settings.spacing_px < 0)
-    throw pcl::BadArgumentException ("texletConsistency: max_frames must be >= 3, min_frames >= 2, radius_px >= 1 "
-                                     "and spacing_px >= 0");
+  if (settings.max_frames < 3 || settings.min_frames < 2 || settings.radius_px < 1 || settings.spacing_px < 0 ||
+      settings.frame_parity < -1 || settings.frame_parity > 1)
+    throw pcl::BadArgumentException ("texletConsistency: max_frames must be >= 3, min_frames >= 2, radius_px >= 1, "
+                                     "spacing_px >= 0 and frame_parity -1, 0 or 1");
 
   double sum_p = 0, sum_n = 0, sum_pn = 0, ideal_sum = 0; // ideal_sum: sum over centres of (n - 1)
   double ideal_sum_p = 0; // sum over pairs of rank(Sigma_P) (n - 1) / n
@@ -153,14 +166,15 @@ texletConsistency (const std::vector<RecordingMeasurement::ConstPtr> &recordings
   {
     if (!rec)
       throw pcl::BadArgumentException ("texletConsistency: null recording");
-    if (rec->frames < settings.min_frames)
+    const std::vector<int> eligible = eligibleFrames (*rec, settings);
+    if (static_cast<int> (eligible.size ()) < settings.min_frames)
       continue;
-    const int used_frames = std::min (settings.max_frames, rec->frames);
+    const int used_frames = std::min (settings.max_frames, static_cast<int> (eligible.size ()));
     // Colour points where the recording has colour frames, so that a term of the grey level
     // (covariate:intensity) sees it; points without colour have no grey level.
     const std::vector<pcl::PointCloud<pcl::Texlet>> texlets =
-        rec->intensity.empty () ? frameTexlets<pcl::PointXYZ> (*rec, model, settings, used_frames)
-                                : frameTexlets<pcl::PointXYZRGBA> (*rec, model, settings, used_frames);
+        rec->intensity.empty () ? frameTexlets<pcl::PointXYZ> (*rec, model, settings, eligible, used_frames)
+                                : frameTexlets<pcl::PointXYZRGBA> (*rec, model, settings, eligible, used_frames);
     out.frames += used_frames;
 
     std::size_t centres = 0;

@@ -57,7 +57,7 @@ metricsJson (const LabMetrics &m)
                       {"within_2sigma", m.within_2sigma},  {"pixels", m.pixels},
                       {"samples", m.samples}};
   const TexletConsistency &t = m.texlets;
-  if (t.samples > 0) // computed for the starting model, the steps and the significant candidates
+  if (t.samples > 0) // computed for the starting model, the steps and the statistically significant candidates
   {
     j["texlet_nees_p"] = t.nees_p;
     j["texlet_nees_p_ideal"] = t.ideal_p;
@@ -84,20 +84,6 @@ texletMetrics (const ModelLab &lab, const NoiseModel &model)
   TexletConsistencySettings settings;
   settings.threads = static_cast<unsigned> (std::max (0, lab.settings ().threads));
   return texletConsistency (lab.recordings (), model, settings);
-}
-
-/** The texlet NEES of the statistically significant candidates' models (each fitted on the fit
-  * half), so that the texlets say whether a candidate makes their covariances honest.
-  */
-void
-scoreCandidateTexlets (const ModelLab &lab, std::vector<Candidate> &candidates)
-{
-  for (auto &c : candidates)
-    if (c.applicable && c.statistically_significant)
-    {
-      say (lab, "lab: texlet NEES with " + c.effect);
-      c.metrics.texlets = texletMetrics (lab, c.model);
-    }
 }
 
 nlohmann::json
@@ -310,7 +296,6 @@ runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &
   s.start_unexplained = diagnoseResiduals (lab, start);
   say (lab, "lab: ranking the candidate effects (fit on even frames, score on odd frames)");
   s.candidates = lab.rankCandidates (start);
-  scoreCandidateTexlets (lab, s.candidates);
   if (!lab.splitsFrames ())
     s.notes.push_back ("a recording has fewer than 4 frames: the halves are a checkerboard of 32 px blocks, not even "
                        "and odd frames, and effects that change over time cannot be tested");
@@ -384,8 +369,12 @@ labReportJson (const LabSession &s)
     cj["null_sd"] = c.null_sd;
     cj["total_gain_nats"] = c.total_gain;
     cj["statistically_significant"] = c.statistically_significant;
+    cj["texlets_less_honest"] = c.texlets_less_honest;
+    cj["verdict"] = candidateVerdict (c);
     cj["effect_size"] = {{"fall", c.effect_size}, {"shows_in", c.effect_shows_in}, {"pixel_share", c.effect_share},
                          {"error_before", c.error_before}, {"error_after", c.error_after}, {"unit", c.error_unit}};
+    if (c.metrics.texlets.samples > 0)
+      cj["texlet_error"] = {{"before", number (c.texlet_error_before)}, {"after", number (c.texlet_error_after)}};
     cj["applicable"] = c.applicable;
     cj["physics"] = c.physics;
     cj["signature"] = c.signature;
@@ -849,10 +838,17 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
        "being detectable, it removes at least "
     << 100.0 * lab.settings ().min_effect_size
     << " % of the mean squared error of the SD, the bias or the lines' offsets where it shows (the pixels, or the "
-       "columns and rows, where adding it moves that prediction most). For the statistically significant candidates the texlets are scored too: the median "
-       "texlet NEES of P and N over its ideal with the candidate's model (fitted on the fit half); nearer 1 "
-       "means honester covariances. The choice stays with the held-out likelihood: the texlet NEES sums every "
-       "effect into two numbers and cannot tell which is missing.</p>\n<table><tr><th>#</th><th>effect</th><th>gain (nats/sample)"
+       "columns and rows, where adding it moves that prediction most). For the statistically significant candidates the texlets are scored too, on the "
+       "score half's frames (every frame where the halves are pixel blocks): the median texlet NEES of P and N over "
+       "its ideal with the candidate's model (fitted on the fit half), and their distance from honest (the larger "
+       "|ln| of the two ratios) under the current model refitted and with the candidate; nearer 1 (nearer 0) means "
+       "honester covariances. A term of variance only that takes them further from 1 "
+       "than the current model refitted by more than a factor of "
+    << fmt (std::exp (lab.settings ().max_texlet_worsening), 3)
+    << " (in the worse of P and N) is not significant: it would make the covariances users consume less honest "
+       "(terms that move the mean are exempt: texlets do not take the model's bias off their depths). "
+       "Otherwise the choice stays with the held-out likelihood: the texlet NEES sums every effect into two numbers "
+       "and cannot tell which is missing.</p>\n<table><tr><th>#</th><th>effect</th><th>gain (nats/sample)"
     << "</th><th>threshold</th><th>effect size (error where it shows)</th><th>significant</th><th>sd_rmse_mm</th>"
     << "<th>bias_rmse_mm</th><th>nll</th><th>texlet NEES, median / ideal: P, N</th><th>shows in</th>"
     << "<th>physics</th></tr>\n";
@@ -870,11 +866,14 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
       else // the neighbours' residual correlation, dimensionless, over every lag
         h << " over lags 1 to " << ResidualDiagnosticsSettings ().max_lag << " along rows and columns)";
       h << "</td><td"
-        << (c.significant ? " class=\"sig\">yes" : (c.statistically_significant ? ">no (too small)" : ">no"))
+        << (c.significant                   ? std::string (" class=\"sig\">yes")
+            : c.statistically_significant ? ">no (" + candidateVerdict (c) + ")"
+                                          : std::string (">no"))
         << "</td><td>" << sdText (c.metrics.sd_rmse_mm) << "</td><td>"
         << fmt (c.metrics.bias_rmse_mm) << "</td><td>" << fmt (c.metrics.nll) << "</td><td>"
         << (c.metrics.texlets.samples > 0
-                ? fmt (c.metrics.texlets.medianRatioP (), 3) + ", " + fmt (c.metrics.texlets.medianRatioN (), 3)
+                ? fmt (c.metrics.texlets.medianRatioP (), 3) + ", " + fmt (c.metrics.texlets.medianRatioN (), 3) +
+                      " (distance from honest " + fmt (c.texlet_error_before, 3) + " to " + fmt (c.texlet_error_after, 3) + ")"
                 : std::string ("-"))
         << "</td>";
     }

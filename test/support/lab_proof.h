@@ -47,8 +47,13 @@ runLabOn (const std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr> &r
     std::cout << "  " << c.effect << ": gain " << c.gain << " (" << c.total_gain << " nats in all) threshold "
               << c.threshold << " (null " << c.null_mean << " +- " << c.null_sd << "), " << c.effect_shows_in
               << " error: " << 100.0 * c.effect_size << " % of its mean square removed where it shows ("
-              << 100.0 * c.effect_share << " % of pixels)" << (c.significant ? " significant" : "")
-              << (c.statistically_significant && !c.significant ? " (detectable, too small)" : "") << " sd_rmse "
+              << 100.0 * c.effect_share << " % of pixels)" << " (" << lab::candidateVerdict (c) << ")"
+              << (c.metrics.texlets.samples > 0 ? ", texlets' distance from honest " + std::to_string (c.texlet_error_before) +
+                                                      " -> " + std::to_string (c.texlet_error_after) + " (P " +
+                                                      std::to_string (c.metrics.texlets.medianRatioP ()) + ", N " +
+                                                      std::to_string (c.metrics.texlets.medianRatioN ()) + ")"
+                                                : std::string ())
+              << " sd_rmse "
               << c.metrics.sd_rmse_mm << " bias_rmse " << c.metrics.bias_rmse_mm;
     if (const NoiseTerm::Ptr term = c.model.find (c.effect))
     {

@@ -23,7 +23,8 @@
  * bins (recording, radius, depth, incidence, edge distance and, where a model quantises,
  * sub-step phase). Significance: a candidate's held-out gain is compared with the gains the
  * same fit brings on data drawn from the current model (parametric bootstrap): significant
- * when it exceeds their mean by more than 4 of their SDs.
+ * when it exceeds their mean by more than 4 of their SDs, removes enough of the error where it
+ * shows, and does not leave the texlets' covariances less honest on the score half (LabSettings).
  */
 #pragma once
 
@@ -32,6 +33,7 @@
 #include <pcl_texlet/noise/noise_model.h>
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -113,14 +115,32 @@ struct Candidate
   double error_after = 0;       ///< ... and with the candidate
   std::string error_unit = "mm"; ///< "mm", or "correlation" (dimensionless) for terms of the neighbours' correlation
   bool statistically_significant = false; ///< gain > threshold and total_gain >= LabSettings::min_total_gain_nats
-  /** \brief statistically_significant and effect_size >= LabSettings::min_effect_size: detectable
-    * and large enough to matter.
+  /** \brief statistically_significant and effect_size >= LabSettings::min_effect_size (detectable
+    * and large enough to matter), and its texlets no less honest than the current model's by more
+    * than LabSettings::max_texlet_worsening.
     */
   bool significant = false;
+  /** \brief The texlets' distance from honest covariances (TexletConsistency::logRatioError) on
+    * the score half's frames: under the current model refitted on the fit half, and with this
+    * candidate (whose texlets are metrics.texlets). Computed for the statistically significant
+    * candidates; NaN for the others.
+    */
+  double texlet_error_before = std::numeric_limits<double>::quiet_NaN ();
+  double texlet_error_after = std::numeric_limits<double>::quiet_NaN (); ///< see texlet_error_before
+  /** \brief Passed both tests, but it is a term of variance only and its texlets are further from
+    * honest than the current model's by more than LabSettings::max_texlet_worsening, so not
+    * significant. */
+  bool texlets_less_honest = false;
   bool applicable = true;   ///< false when the data cannot show it (reason in note)
   std::string note;         ///< why not applicable, or remarks
   NoiseModel model;         ///< the model with it, fitted on the fit half
 };
+
+/** \brief In words, for reports: "significant", "detectable, too small", "detectable, makes the
+  * texlets less honest", "not significant" or "not testable".
+  */
+std::string
+candidateVerdict (const Candidate &c);
 
 /** \brief Options of the lab. */
 struct LabSettings
@@ -140,6 +160,14 @@ struct LabSettings
     * section 4).
     */
   double min_effect_size = 0.05;
+  /** \brief Significance also needs a candidate of variance only not to make the texlets'
+    * covariances less honest: on the score half's frames its texlets' distance from honest
+    * (Candidate::texlet_error_after, the larger |ln| of the median NEES ratios of P and N) may
+    * exceed the current model's by at most this; ln 1.25: 25 % further from honest. Terms that
+    * move the mean are exempt (texlets do not take the model's bias off; docs/model_lab.md
+    * section 4).
+    */
+  double max_texlet_worsening = 0.22314355131420976;
   int outer_iterations = 3;      ///< alternations of the linear (bias) and Ceres (variance) fits
   int max_lbfgs_iterations = 60; ///< per Ceres run
   unsigned seed = 1;             ///< bootstrap seed

@@ -20,6 +20,8 @@
 #include <pcl_texlet/noise/noise_model.h>
 #include <pcl_texlet/features/texlet_parameters.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -46,6 +48,10 @@ struct TexletConsistencySettings
     */
   double ransac_threshold_m = 0.0;
   TexletCentre centre = TexletCentre::CentreRay; ///< the texlets' P (TexletEstimation's default)
+  /** \brief -1: every frame; 0 or 1: only the frames whose index has that parity (the lab's fit
+    * and score halves), evenly spaced over them.
+    */
+  int frame_parity = -1;
 };
 
 /** \brief Mean NEES of texlet P and N across frames against their own covariances. */
@@ -75,6 +81,15 @@ struct TexletConsistency
   double medianRatioP () const { return median_p / ideal_median_p; } ///< 1 when calibrated
   double medianRatioN () const { return median_n / ideal_median_n; } ///< 1 when calibrated
   double ratioPNormal () const { return nees_p_normal / ideal_p_normal; } ///< 1 when calibrated
+  /** \brief How far from honest: the larger of |ln (median ratio)| of P and of N; 0 when both
+    * are calibrated, ln 10 = 2.3 when one is 10 times over- or under-confident; NaN when nothing
+    * was compared.
+    */
+  double logRatioError () const
+  {
+    return samples > 0 ? std::max (std::fabs (std::log (medianRatioP ())), std::fabs (std::log (medianRatioN ())))
+                       : std::numeric_limits<double>::quiet_NaN ();
+  }
 };
 
 /** \brief Texlet NEES of \a model on \a recordings (see the file comment).
