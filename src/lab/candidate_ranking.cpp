@@ -246,17 +246,14 @@ ModelLab::rankCandidates (const NoiseModel &current) const
   // (all frames where the halves are pixel blocks), against the refitted current model's there.
   if (std::any_of (out.begin (), out.end (), [] (const Candidate &c) { return c.applicable && c.statistically_significant; }))
   {
-    TexletConsistencySettings texlet_settings;
-    texlet_settings.threads = static_cast<unsigned> (std::max (0, settings_.threads));
-    texlet_settings.frame_parity = splitsFrames () ? 1 : -1;
     const std::string where = splitsFrames () ? "on the score half's frames" : "on every frame (the halves are pixel blocks)";
     say ("lab: texlet NEES " + where + " under the current model refitted");
-    const double before = texletConsistency (recordings_, base, texlet_settings).logRatioError ();
+    const double before = texlets (base, Half::score).logRatioError ();
     for (Candidate &c : out)
       if (c.applicable && c.statistically_significant)
       {
         say ("lab: texlet NEES " + where + " with " + c.effect);
-        c.metrics.texlets = texletConsistency (recordings_, c.model, texlet_settings);
+        c.metrics.texlets = texlets (c.model, Half::score);
         c.texlet_error_before = before;
         c.texlet_error_after = c.metrics.texlets.logRatioError ();
         // A term of variance that makes the covariances users consume less honest is not one to

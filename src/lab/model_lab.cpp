@@ -137,6 +137,16 @@ ModelLab::splitsFrames () const
   return facts_.all_split;
 }
 
+TexletConsistency
+ModelLab::texlets (const NoiseModel &model, Half half) const
+{
+  TexletConsistencySettings settings;
+  settings.threads = static_cast<unsigned> (std::max (0, settings_.threads));
+  if (half != Half::all && splitsFrames ())
+    settings.frame_parity = half == Half::fit ? 0 : 1;
+  return texletConsistency (recordings_, model, settings);
+}
+
 std::shared_ptr<const ModelLab::Data>
 ModelLab::data (Half half, const NoiseModel &reference) const
 {

@@ -77,15 +77,6 @@ metricsJson (const LabMetrics &m)
   return j;
 }
 
-/** The texlet NEES of \a model on the lab's recordings (Analytic uncertainty, a frame subsample). */
-TexletConsistency
-texletMetrics (const ModelLab &lab, const NoiseModel &model)
-{
-  TexletConsistencySettings settings;
-  settings.threads = static_cast<unsigned> (std::max (0, lab.settings ().threads));
-  return texletConsistency (lab.recordings (), model, settings);
-}
-
 nlohmann::json
 termsJson (const NoiseModel &model)
 {
@@ -291,7 +282,7 @@ runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &
   say (lab, "lab: comparing the model '" + start_name + "' with the recordings");
   s.start_metrics = lab.evaluate (start);
   say (lab, "lab: texlet NEES of P and N across frames under '" + start_name + "'");
-  s.start_metrics.texlets = texletMetrics (lab, start);
+  s.start_metrics.texlets = lab.texlets (start);
   say (lab, "lab: the structure '" + start_name + "' leaves in the residuals");
   s.start_unexplained = diagnoseResiduals (lab, start);
   say (lab, "lab: ranking the candidate effects (fit on even frames, score on odd frames)");
@@ -305,7 +296,7 @@ runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &
     say (lab, "lab: adding " + effect + " and refitting");
     current = lab.addEffect (current, effect);
     s.steps.push_back ({effect, lab.evaluate (current), current, false, {}});
-    s.steps.back ().metrics.texlets = texletMetrics (lab, current);
+    s.steps.back ().metrics.texlets = lab.texlets (current);
     s.steps.back ().unexplained = diagnoseResiduals (lab, current);
   }
   std::vector<Candidate> ranking = s.candidates;
@@ -331,7 +322,7 @@ runLabSession (const ModelLab &lab, const NoiseModel &start, const std::string &
     say (lab, "lab: adding " + best->effect + " (best significant candidate) and refitting");
     current = lab.addEffect (current, best->effect);
     s.steps.push_back ({best->effect, lab.evaluate (current), current, true, {}});
-    s.steps.back ().metrics.texlets = texletMetrics (lab, current);
+    s.steps.back ().metrics.texlets = lab.texlets (current);
     s.steps.back ().unexplained = diagnoseResiduals (lab, current);
   }
   if (s.steps.empty ())

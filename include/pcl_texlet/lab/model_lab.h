@@ -203,6 +203,13 @@ public:
   LabMetrics
   evaluate (const NoiseModel &model, Half half = Half::all) const;
 
+  /** \brief Texlet NEES of \a model on \a half's frames (Analytic, TexletEstimation's defaults,
+    * the lab's threads): Half::all every frame; Half::fit or Half::score that half's frames where
+    * the halves are frame halves, every frame where they are pixel blocks (a texlet spans blocks).
+    */
+  TexletConsistency
+  texlets (const NoiseModel &model, Half half = Half::all) const;
+
   /** \brief \a model with every parameter refitted on \a half. */
   NoiseModel
   fit (const NoiseModel &model, Half half = Half::all) const;
