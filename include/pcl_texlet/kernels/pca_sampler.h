@@ -58,6 +58,20 @@ namespace kernels
   */
 constexpr int kPcaSampleNormals = 16;
 
+/** \brief A point's weights w = (a, q a' + a q' packed) in the moments' part linear in its
+  * noise: the sample's y gains g w / n.
+  */
+template <typename V> PCL_TEXLET_HD void
+pcaModelWeights (const V *q, const V *a, V w[9])
+{
+  w[0] = a[0]; w[1] = a[1]; w[2] = a[2];
+  PCL_TEXLET_UNROLL_LOOP
+  for (int i = 0, k = 0; i < 3; ++i)
+    PCL_TEXLET_UNROLL_LOOP
+    for (int j = i; j < 3; ++j, ++k)
+      w[3 + k] = q[i] * a[j] + a[i] * q[j];
+}
+
 /** \brief Adds one point's terms to the sums of the Gaussian model of a PCA re-fit (layout:
   * PcaModelSums), from its q (offset from P0) and a (ray direction times sigma / z), both in
   * the measured fit's eigenbasis and zero for an outlier. \a V is the scalar or a SIMD lane
@@ -67,13 +81,12 @@ template <typename V> PCL_TEXLET_HD void
 addPcaModelTerms (V *v, const V *q, const V *a)
 {
   V w[9], A[6];
-  w[0] = a[0]; w[1] = a[1]; w[2] = a[2];
+  pcaModelWeights (q, a, w);
   PCL_TEXLET_UNROLL_LOOP
   for (int i = 0, k = 0; i < 3; ++i)
     PCL_TEXLET_UNROLL_LOOP
     for (int j = i; j < 3; ++j, ++k)
     {
-      w[3 + k] = q[i] * a[j] + a[i] * q[j];
       A[k] = a[i] * a[j];
       v[3 + k] += q[i] * q[j];
     }
@@ -206,10 +219,17 @@ addPcaModelPoints (const Neighbourhood<S> &nb, const unsigned char *mask, const 
   * and quadratic shared parts must come from the same h0: for a shift of the whole patch along
   * the rays they cancel in the covariance of the moments. Where the shared noise falls off
   * across columns, pcaLineSampleMoments() takes one such normal per column instead.
+  *
+  * With a part \a window of the noise shared over a window (shared_noise.h) and \a window_ww
+  * its form of the points' w (windowForm() of pcaModelWeights(), 45 values), y's covariance is
+  * (1/n^2) ((1 - rho - window) sum w w' + window window_ww): Gaussian, so y keeps the per-point
+  * sampler's law exactly. The quadratic term's fluctuation keeps the covariance of independent
+  * own noise (the window's correlation of the g_k^2 is left out: docs/texlet_covariances.md).
   */
 template <typename S> PCL_TEXLET_HD void
 preparePcaSampleModel (const PcaModelSums<S> &sums, int n, S rho, const PlaneFit<S> &fit, const Vec3<S> &n0,
-                       const Vec3<S> &t1, const Vec3<S> &t2, PcaSampleModel<S> &md)
+                       const Vec3<S> &t1, const Vec3<S> &t2, PcaSampleModel<S> &md, S window = S (0),
+                       const S *window_ww = nullptr)
 {
   typedef PcaModelSums<S> Sums;
   md.axes[0] = fit.N;
@@ -223,9 +243,11 @@ preparePcaSampleModel (const PcaModelSums<S> &sums, int n, S rho, const PlaneFit
       md.base[k] = (sums.v[Sums::kQQ + k] + sums.v[Sums::kWW + packedIndex<9> (i, j)]) * inv_n;
   md.shared = rho > S (0);
   const S own = md.shared ? S (1) - rho : S (1), own_quad = md.shared ? S (1) - rho * rho : S (1);
+  const bool windowed = window_ww && window > S (0);
+  const S own_lin = windowed ? own - window : own;
   S c[45];
   for (int k = 0; k < 45; ++k)
-    c[k] = own * sums.v[Sums::kWW + k] * inv_n2;
+    c[k] = (own_lin * sums.v[Sums::kWW + k] + (windowed ? window * window_ww[k] : S (0))) * inv_n2;
   factorSemidefinite<S, 9> (c, md.lin);
   for (int k = 0; k < 21; ++k)
     c[k] = own_quad * S (2) * sums.v[Sums::kAA + k] * inv_n2;

@@ -204,19 +204,20 @@ windowInflation (const Neighbourhood<S> &nb)
 }
 
 /** \brief The quadratic form sum_i sum_j tri(u_i - u_j) tri(v_i - v_j) G_i G_j' of the points'
-  * \a G (6 values each; windowed part of the noise, shared_noise.h), packed (upper triangle by
-  * rows) into \a out. \a u, \a v: the points' pixels, inside the box of corner (\a u0, \a v0)
-  * and size \a nu x \a nv (windowBox()), at most one point per pixel. Since tri tri is the two
-  * pixels' windows' overlap over w^2, the form is (1 / w^2) sum over the windows c touching the box
-  * of H_c H_c', H_c the sum of G over window c: sliding sums along the rows, then the columns.
-  * Only the block of values \a lo .. \a hi - 1 is formed (the rest of \a out is 0): a texlet
-  * needs 3 of the 6 when P is on the centre ray.
+  * \a G (\a D values each: the analytic propagation's 6 SD-weighted Jacobians, the moment
+  * sampler's 9 linear weights), packed (upper triangle by rows) into \a out. \a u, \a v: the
+  * points' pixels, inside the box of corner (\a u0, \a v0) and size \a nu x \a nv
+  * (windowBox()), at most one point per pixel. Since tri tri is the two pixels' windows' overlap
+  * over w^2, the form is (1 / w^2) sum over the windows c touching the box of H_c H_c', H_c the
+  * sum of G over window c: sliding sums along the rows, then the columns. Only the block of
+  * values \a lo .. \a hi - 1 is formed (the rest of \a out is 0): a texlet's analytic
+  * propagation needs 3 of the 6 when P is on the centre ray.
   */
-template <typename S, int lo = 0, int hi = 6> PCL_TEXLET_HD void
-windowForm (const S (*G)[6], const int *u, const int *v, int count, int u0, int v0, int nu, int nv, int w,
-            S out[21])
+template <typename S, int D, int lo = 0, int hi = D> PCL_TEXLET_HD void
+windowForm (const S (*G)[D], const int *u, const int *v, int count, int u0, int v0, int nu, int nv, int w,
+            S out[D * (D + 1) / 2])
 {
-  for (int k = 0; k < 21; ++k)
+  for (int k = 0; k < D * (D + 1) / 2; ++k)
     out[k] = S (0);
   constexpr int dims = hi - lo;
   S block[dims * (dims + 1) / 2]; // the block's upper triangle, packed
@@ -257,7 +258,7 @@ windowForm (const S (*G)[6], const int *u, const int *v, int count, int u0, int 
   const S inv_w2 = S (1) / (S (w) * S (w));
   for (int a = 0, k = 0; a < dims; ++a)
     for (int b = a; b < dims; ++b, ++k)
-      out[packedIndex<6> (lo + a, lo + b)] = block[k] * inv_w2;
+      out[packedIndex<D> (lo + a, lo + b)] = block[k] * inv_w2;
 }
 
 /** \brief The windowed part of a Monte Carlo sample's noise (host only): normals on the cells of

@@ -143,8 +143,7 @@ texletUncertainty (const Neighbourhood<S> &nb, const unsigned char *mask, const 
     analyticCovariance (nb, mask, ring_use, st.fit, fit, centre, cov_p, cov_n);
     break;
   case UncertaintyMethod::MonteCarlo:
-    // The moment sampler knows no window: with one, PCA's reference sampler draws every point.
-    if (st.fit == PlaneFitMethod::PCA && !(nb.window_fraction > S (0)))
+    if (st.fit == PlaneFitMethod::PCA)
       monteCarloPcaCovariance (nb, mask, fit, st.samples, st.seed, texlet, centre, cov_p, cov_n);
     else
       monteCarloCovariance (nb, mask, ring_use, st.fit, st.samples, st.seed, texlet, fit.P, centre, work, cov_p, cov_n);

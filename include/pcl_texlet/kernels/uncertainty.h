@@ -153,9 +153,9 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     }
     // (r, j1, j2, a): the normal needs j1, j2; P on the centre ray a, else r.
     if (centre.on)
-      windowForm<S, 3, 6> (Gp, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_form);
+      windowForm<S, 6, 3, 6> (Gp, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_form);
     else
-      windowForm<S, 0, 5> (Gp, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_form);
+      windowForm<S, 6, 0, 5> (Gp, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_form);
     window_resolved = true;
 #endif
   }
@@ -581,6 +581,9 @@ addPcaSample (const PcaSampleModel<S> &md, std::uint32_t seed, std::uint32_t tex
   * samples at a time (normalSamples()), and the re-fit is a few Newton steps in the measured
   * fit's eigenbasis \a fit (N, e1, e2), falling back to the Jacobi and closed-form eigen
   * solvers when they do not converge. The GPU's warp kernel uses the same pieces and draws.
+  * Noise shared over a window (host only) enters the linear part's covariance through the
+  * window's form of the points' weights, made once per texlet; the quadratic part's covariance
+  * stays that of independent noise (preparePcaSampleModel()).
   */
 template <typename S> PCL_TEXLET_HD void
 monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit, int samples,
@@ -640,8 +643,29 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   sums.reset ();
   addPcaModelPoints (nb, mask, basis, 0, 1, sums);
 #endif
+  S window_ww[45];
+  bool windowed = false;
+#if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
+  const WindowBox box = windowBox (nb);
+  if (box.on) // every point's linear weights, for the window's form (shared_noise.h)
+  {
+    S W[kMaxWindowPoints][9];
+    int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
+    for (int k = 0; k < nb.count; ++k)
+    {
+      S q[3], a[3];
+      pcaModelPoint (nb, mask, k, basis.P0, basis.axes, basis.P0b, q, a);
+      pcaModelWeights (q, a, W[k]);
+      pu[k] = nb.pixel[k] % nb.width;
+      pv[k] = nb.pixel[k] / nb.width;
+    }
+    windowForm<S, 9> (W, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_ww);
+    windowed = true;
+  }
+#endif
   PcaSampleModel<S> md;
-  preparePcaSampleModel (sums, n, nb.shared_fraction, fit, centre.N0, centre.t1, centre.t2, md);
+  preparePcaSampleModel (sums, n, nb.shared_fraction, fit, centre.N0, centre.t1, centre.t2, md, nb.window_fraction,
+                         windowed ? window_ww : nullptr);
 
   SampleCovariance<S> acc;
   acc.reset (centre);
