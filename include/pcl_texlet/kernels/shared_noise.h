@@ -26,6 +26,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace pcl
 {
@@ -203,6 +204,19 @@ windowInflation (const Neighbourhood<S> &nb)
   return S (nb.window_px) * S (nb.window_px);
 }
 
+/** \brief Adds h h' (\a dims values, upper triangle packed by rows) to \a sum; \a V is the
+  * scalar or a SIMD lane type (several outer products at once, one a lane).
+  */
+template <int dims, typename V> PCL_TEXLET_HD void
+addOuterProduct (const V *h, V *sum)
+{
+  PCL_TEXLET_UNROLL_LOOP
+  for (int a = 0, k = 0; a < dims; ++a)
+    PCL_TEXLET_UNROLL_LOOP
+    for (int b = a; b < dims; ++b, ++k)
+      sum[k] += h[a] * h[b];
+}
+
 /** \brief The quadratic form sum_i sum_j tri(u_i - u_j) tri(v_i - v_j) G_i G_j' of the points'
   * \a G (\a D values each: the analytic propagation's 6 SD-weighted Jacobians, the moment
   * sampler's 9 linear weights), packed (upper triangle by rows) into \a out. \a u, \a v: the
@@ -238,6 +252,19 @@ windowForm (const S (*G)[D], const int *u, const int *v, int count, int u0, int 
   for (int y = 0; y < nv + 2 * w; ++y)
     for (int d = 0; d < dims; ++d)
       row[y][d] = S (0);
+  // A column of windows' sums, value by value, padded with zeros to whole groups of four: the
+  // products then take four windows a step in SIMD lanes (docs/benchmarks.md).
+  const int ny = nv + w - 1, ny4 = (ny + 3) / 4 * 4;
+  S column[dims][(kMaxSharedLines + kMaxWindowPx + 2) / 4 * 4];
+  for (int d = 0; d < dims; ++d)
+    for (int y = ny; y < ny4; ++y)
+      column[d][y] = S (0);
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+  Lane lanes[dims * (dims + 1) / 2];
+  for (int k = 0; k < dims * (dims + 1) / 2; ++k)
+    lanes[k] = Lane{};
+#endif
   for (int x = 0; x < nu + w - 1; ++x)
   {
     for (int y = 0; y < nv; ++y)
@@ -246,15 +273,34 @@ windowForm (const S (*G)[D], const int *u, const int *v, int count, int u0, int 
     S H[dims]; // window (x, y): rows y - w + 1 .. y
     for (int d = 0; d < dims; ++d)
       H[d] = S (0);
-    for (int y = 0; y < nv + w - 1; ++y)
-    {
+    for (int y = 0; y < ny; ++y)
       for (int d = 0; d < dims; ++d)
+      {
         H[d] += row[y + w][d] - row[y][d];
-      for (int a = 0, k = 0; a < dims; ++a)
-        for (int b = a; b < dims; ++b, ++k)
-          block[k] += H[a] * H[b];
+        column[d][y] = H[d];
+      }
+#if defined(__GNUC__) && !defined(__CUDACC__)
+    for (int y = 0; y < ny4; y += 4)
+    {
+      Lane h[dims];
+      for (int d = 0; d < dims; ++d)
+        std::memcpy (&h[d], &column[d][y], sizeof (Lane));
+      addOuterProduct<dims> (h, lanes);
     }
+#else
+    for (int y = 0; y < ny; ++y)
+    {
+      S h[dims];
+      for (int d = 0; d < dims; ++d)
+        h[d] = column[d][y];
+      addOuterProduct<dims> (h, block);
+    }
+#endif
   }
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  for (int k = 0; k < dims * (dims + 1) / 2; ++k)
+    block[k] = (lanes[k][0] + lanes[k][1]) + (lanes[k][2] + lanes[k][3]);
+#endif
   const S inv_w2 = S (1) / (S (w) * S (w));
   for (int a = 0, k = 0; a < dims; ++a)
     for (int b = a; b < dims; ++b, ++k)
