@@ -71,6 +71,100 @@ analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k
   cs[3] += sd * j1; cs[4] += sd * j2; cs[5] += sd * a;
 }
 
+/** \brief One point's analyticPlaneTerms() into \a cs, and with \a Gp also apart in Gp[k]. */
+template <typename S> PCL_TEXLET_HD void
+analyticPointTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k, const PlaneFit<S> &fit, S inv_d1,
+                    S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S inv_n, S e1m, S e2m, S cp[6], S cn[3], S &ct, S cs[6],
+                    S (*Gp)[6])
+{
+  if (!Gp)
+  {
+    analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs);
+    return;
+  }
+  for (int j = 0; j < 6; ++j)
+    Gp[k][j] = S (0);
+  analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, Gp[k]);
+  for (int j = 0; j < 6; ++j)
+    cs[j] += Gp[k][j];
+}
+
+/** \brief analyticPlaneTerms() of every point of \a nb into the four slots k mod 4 of \a cp,
+  * \a cn, \a ct and \a cs (which start at 0), four points at a time in SIMD lanes on the host;
+  * with \a Gp, each point's SD-weighted Jacobians also apart in Gp[k] (for the window's form).
+  */
+template <typename S> PCL_TEXLET_HD void
+analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit, S inv_d1,
+                         S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S inv_n, S e1m, S e2m, S cp[4][6], S cn[4][3],
+                         S ct[4], S cs[4][6], S (*Gp)[6])
+{
+  const int full = nb.count & ~3;
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  // The same terms as analyticPlaneTerms, four points at a time in vector types.
+  typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+  Lane lp[6] = {}, ln[3] = {}, lt = {}, ls[6] = {};
+  const bool shared = nb.shared_fraction > S (0) || Gp;
+  for (int k = 0; k < full; k += 4)
+  {
+    Lane px, py, pz, sd;
+    std::memcpy (&px, nb.x + k, sizeof px);
+    std::memcpy (&py, nb.y + k, sizeof py);
+    std::memcpy (&pz, nb.z + k, sizeof pz);
+    std::memcpy (&sd, nb.sigma + k, sizeof sd);
+    Lane use;
+    for (int i = 0; i < 4; ++i)
+      use[i] = mask[k + i] ? S (1) : S (0);
+    const Lane iz = S (1) / pz;
+    const Lane rx = iz * px, ry = iz * py, rz = iz * pz;
+    const Lane qx = px - fit.P.x, qy = py - fit.P.y, qz = pz - fit.P.z;
+    const Lane su = use * sd, var = su * sd;
+    lp[0] += var * rx * rx; lp[1] += var * rx * ry; lp[2] += var * rx * rz;
+    lp[3] += var * ry * ry; lp[4] += var * ry * rz; lp[5] += var * rz * rz;
+    const Lane h = qx * fit.N.x + qy * fit.N.y + qz * fit.N.z, re0 = rx * fit.N.x + ry * fit.N.y + rz * fit.N.z;
+    const Lane c1 = -((rx * fit.e1.x + ry * fit.e1.y + rz * fit.e1.z) * h +
+                      (qx * fit.e1.x + qy * fit.e1.y + qz * fit.e1.z) * re0) * inv_d1;
+    const Lane c2 = -((rx * fit.e2.x + ry * fit.e2.y + rz * fit.e2.z) * h +
+                      (qx * fit.e2.x + qy * fit.e2.y + qz * fit.e2.z) * re0) * inv_d2;
+    const Lane j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
+    ln[0] += var * j1 * j1;
+    ln[1] += var * j1 * j2;
+    ln[2] += var * j2 * j2;
+    const Lane a = re0 * inv_n + c1 * e1m + c2 * e2m;
+    lt += var * a * a;
+    if (shared)
+    {
+      ls[0] += su * rx; ls[1] += su * ry; ls[2] += su * rz;
+      ls[3] += su * j1; ls[4] += su * j2; ls[5] += su * a;
+      if (Gp)
+        for (int i = 0; i < 4; ++i)
+        {
+          S *G = Gp[k + i];
+          G[0] = su[i] * rx[i]; G[1] = su[i] * ry[i]; G[2] = su[i] * rz[i];
+          G[3] = su[i] * j1[i]; G[4] = su[i] * j2[i]; G[5] = su[i] * a[i];
+        }
+    }
+  }
+  for (int i = 0; i < 4; ++i)
+  {
+    for (int j = 0; j < 6; ++j)
+    {
+      cp[i][j] = lp[j][i];
+      cs[i][j] = ls[j][i];
+    }
+    for (int j = 0; j < 3; ++j)
+      cn[i][j] = ln[j][i];
+    ct[i] = lt[i];
+  }
+#else
+  for (int k = 0; k < full; ++k)
+    analyticPointTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k & 3], cn[k & 3],
+                        ct[k & 3], cs[k & 3], Gp);
+#endif
+  for (int k = full; k < nb.count; ++k)
+    analyticPointTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k - full],
+                        cn[k - full], ct[k - full], cs[k - full], Gp);
+}
+
 /** \brief Adds the shared parts of the noise to covariances of independent noise \a c (packed
   * \a dim x \a dim): the lines' part \a rho times the block of rows first .. first + dim - 1 of
   * \a form (packed 6 x 6: the SD-weighted Jacobians' lineForm()) and the window's part
@@ -135,13 +229,10 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
     for (int k = 0; k < nb.count; ++k)
     {
-      for (int j = 0; j < 6; ++j)
-        Gp[k][j] = S (0);
       pu[k] = nb.pixel[k] % nb.width;
       pv[k] = nb.pixel[k] / nb.width;
-      analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k & 3],
-                          cn[k & 3], ct[k & 3], Gp[k]);
     }
+    analyticPlaneTermsOfAll (nb, mask, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs, Gp);
     if (rho > S (0))
     {
       S G[kMaxSharedLines][6] = {};
@@ -171,65 +262,8 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   }
   else
   {
-    const int full = nb.count & ~3;
-#if defined(__GNUC__) && !defined(__CUDACC__)
-    // The same terms as analyticPlaneTerms, four points at a time in vector types.
-    typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
-    Lane lp[6] = {}, ln[3] = {}, lt = {}, ls[6] = {};
-    const bool shared = nb.shared_fraction > S (0);
-    for (int k = 0; k < full; k += 4)
-    {
-      Lane px, py, pz, sd;
-      std::memcpy (&px, nb.x + k, sizeof px);
-      std::memcpy (&py, nb.y + k, sizeof py);
-      std::memcpy (&pz, nb.z + k, sizeof pz);
-      std::memcpy (&sd, nb.sigma + k, sizeof sd);
-      Lane use;
-      for (int i = 0; i < 4; ++i)
-        use[i] = mask[k + i] ? S (1) : S (0);
-      const Lane iz = S (1) / pz;
-      const Lane rx = iz * px, ry = iz * py, rz = iz * pz;
-      const Lane qx = px - fit.P.x, qy = py - fit.P.y, qz = pz - fit.P.z;
-      const Lane su = use * sd, var = su * sd;
-      lp[0] += var * rx * rx; lp[1] += var * rx * ry; lp[2] += var * rx * rz;
-      lp[3] += var * ry * ry; lp[4] += var * ry * rz; lp[5] += var * rz * rz;
-      const Lane h = qx * fit.N.x + qy * fit.N.y + qz * fit.N.z, re0 = rx * fit.N.x + ry * fit.N.y + rz * fit.N.z;
-      const Lane c1 = -((rx * fit.e1.x + ry * fit.e1.y + rz * fit.e1.z) * h +
-                        (qx * fit.e1.x + qy * fit.e1.y + qz * fit.e1.z) * re0) * inv_d1;
-      const Lane c2 = -((rx * fit.e2.x + ry * fit.e2.y + rz * fit.e2.z) * h +
-                        (qx * fit.e2.x + qy * fit.e2.y + qz * fit.e2.z) * re0) * inv_d2;
-      const Lane j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
-      ln[0] += var * j1 * j1;
-      ln[1] += var * j1 * j2;
-      ln[2] += var * j2 * j2;
-      const Lane a = re0 * inv_n + c1 * e1m + c2 * e2m;
-      lt += var * a * a;
-      if (shared)
-      {
-        ls[0] += su * rx; ls[1] += su * ry; ls[2] += su * rz;
-        ls[3] += su * j1; ls[4] += su * j2; ls[5] += su * a;
-      }
-    }
-    for (int i = 0; i < 4; ++i)
-    {
-      for (int j = 0; j < 6; ++j)
-      {
-        cp[i][j] = lp[j][i];
-        cs[i][j] = ls[j][i];
-      }
-      for (int j = 0; j < 3; ++j)
-        cn[i][j] = ln[j][i];
-      ct[i] = lt[i];
-    }
-#else
-    for (int k = 0; k < full; k += 4)
-      for (int i = 0; i < 4; ++i)
-        analyticPlaneTerms (nb, mask, k + i, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[i], cn[i],
-                            ct[i], cs[i]);
-#endif
-    for (int k = full; k < nb.count; ++k)
-      analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k - full],
-                          cn[k - full], ct[k - full], cs[k - full]);
+    analyticPlaneTermsOfAll (nb, mask, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs,
+                             static_cast<S (*)[6]> (nullptr));
     if (rho > S (0)) // the patch shares it whole
     {
       S G[1][6];
