@@ -410,6 +410,61 @@ compareSamplers (const Patch &patch, const unsigned char *mask, int samples, std
 
 } // namespace
 
+TEST (PcaSampler, ColumnSharedNoiseKernelEqualsTheSampleBySamplePieces)
+{
+  // With noise shared by column, the host kernel draws every sample's column normals in batches
+  // and takes four samples a step in SIMD lanes; one sample at a time (pcaSampleNormals,
+  // sampleNormalBlocks, pcaLineSeries, pcaLineSampleMoments) draws the same normals: equal to
+  // summation rounding.
+  std::mt19937 rng (14);
+  for (int trial = 0; trial < 8; ++trial)
+  {
+    Patch patch (rng, 0.7 + 0.2 * trial, trial % 2 ? 0.0 : 15.0, 1.5e-3);
+    patch.nb.shared_fraction = 0.3 + 0.08 * trial;
+    patch.nb.line_correlation = std::exp (-1.0 / (2.0 + 3.0 * trial));
+    patch.nb.lines_are_rows = trial % 3 == 1;
+    std::vector<unsigned char> mask (patch.nb.count, 1);
+    const MeasuredFit m (patch.nb, mask.data ());
+    ASSERT_TRUE (m.ok);
+    const int samples = 37 + 5 * trial; // not whole chunks nor lanes
+    double cov_p[6], cov_n[3];
+    monteCarloPcaCovariance (patch.nb, mask.data (), m.fit, samples, 5u, 600u + trial, m.centre, cov_p, cov_n);
+
+    const PcaModelBasis<double> basis = pcaModelBasis (m.fit);
+    PcaModelSums<double> sums;
+    sums.reset ();
+    const int n = addPcaModelPoints (patch.nb, mask.data (), basis, 0, 1, sums);
+    PcaSampleModel<double> md;
+    preparePcaSampleModel (sums, n, patch.nb.shared_fraction, m.fit, m.N, m.t1, m.t2, md);
+    const LineSpan lines = sharedLines (patch.nb);
+    ASSERT_GT (lines.count, 1);
+    PcaLineSums<double> cols;
+    pcaLineSums (patch.nb, mask.data (), basis, lines, n, cols);
+    SampleCovariance<double> acc;
+    acc.reset ();
+    for (int s = 0; s < samples; ++s)
+    {
+      double z[kPcaSampleNormals], e[kMaxSharedLines + 3], mo[3], c[6], a1, a2;
+      Vec3<double> dP;
+      pcaSampleNormals (5u, 600u + trial, static_cast<std::uint32_t> (s), z);
+      sampleNormalBlocks (5u, 600u + trial, static_cast<std::uint32_t> (s), kSharedNoiseBlock,
+                          pcaLineNormalBlocks (cols.count), e);
+      pcaLineSeries (cols.count, patch.nb.line_correlation, e);
+      pcaLineSampleMoments (md, cols, z, e, mo, c);
+      if (pcaSampleRefitMoments (md, mo, c, dP, a1, a2))
+        acc.add (dP, a1, a2);
+    }
+    EXPECT_EQ (acc.n, samples);
+    double ref_p[6], ref_n[3];
+    acc.finish (ref_p, ref_n);
+    for (int i = 0; i < 6; ++i)
+      EXPECT_NEAR (cov_p[i], ref_p[i], 1e-8 * std::sqrt (ref_p[0] * ref_p[0] + ref_p[3] * ref_p[3] + ref_p[5] * ref_p[5]))
+          << "trial " << trial;
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR (cov_n[i], ref_n[i], 1e-8 * (ref_n[0] + ref_n[2])) << "trial " << trial;
+  }
+}
+
 TEST (PcaSampler, CovariancesAgreeWithThePerPointSamplerWithinMonteCarloError)
 {
   // 20000 samples of each sampler on planar and curved patches (radius 6 pixels) from 0.8 to

@@ -263,15 +263,18 @@ preparePcaSampleModel (const PcaModelSums<S> &sums, int n, S rho, const PlaneFit
   md.t2 = make3 (dot (t2, fit.N), dot (t2, fit.e1), dot (t2, fit.e2));
 }
 
-/** \brief The kPcaSampleNormals normals of sample \a sample, one at a time (the GPU's way):
-  * the bits of normalSamples() for blocks 0..3 at z[4 block + i] (z[15]: the shared noise's).
+/** \brief The normals of Philox blocks \a block .. \a block + \a blocks - 1 of sample \a sample,
+  * one sample at a time (the GPU's way): the bits of normalSamples() for those blocks, block b's
+  * four at z[4 (b - block) + 0..3].
   */
 template <typename S> PCL_TEXLET_HD void
-pcaSampleNormals (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, S z[kPcaSampleNormals])
+sampleNormalBlocks (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, std::uint32_t block, int blocks,
+                    S *z)
 {
-  for (std::uint32_t b = 0; b < 4; ++b)
+  for (int b = 0; b < blocks; ++b)
   {
-    const r123::Philox4x32::ctr_type w = philoxWords (seed, texlet, sample, b, RandomStream::MonteCarlo);
+    const r123::Philox4x32::ctr_type w =
+        philoxWords (seed, texlet, sample, block + static_cast<std::uint32_t> (b), RandomStream::MonteCarlo);
     float x0, y0, x1, y1;
     boxMullerFloat (w.v[0], w.v[1], x0, y0);
     boxMullerFloat (w.v[2], w.v[3], x1, y1);
@@ -280,6 +283,36 @@ pcaSampleNormals (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample
     z[4 * b + 2] = x1;
     z[4 * b + 3] = y1;
   }
+}
+
+/** \brief The kPcaSampleNormals normals of sample \a sample (blocks 0..3, z[15]: the shared
+  * noise's), one at a time.
+  */
+template <typename S> PCL_TEXLET_HD void
+pcaSampleNormals (std::uint32_t seed, std::uint32_t texlet, std::uint32_t sample, S z[kPcaSampleNormals])
+{
+  sampleNormalBlocks (seed, texlet, sample, 0u, 4, z);
+}
+
+/** \brief Philox blocks of a sample's column normals (pcaLineSampleMoments()): from
+  * kSharedNoiseBlock, four columns a block.
+  */
+PCL_TEXLET_HD int
+pcaLineNormalBlocks (int columns)
+{
+  return (columns + 3) / 4;
+}
+
+/** \brief Turns a sample's \a count column normals \a e (independent on entry) into the AR(1)
+  * series of the shared noise across columns, e_x = a e_(x-1) + sqrt(1 - a^2) h_x (SharedDraw's
+  * law: columns du apart correlate by a^|du|). \a V is S or a SIMD lane type.
+  */
+template <typename S, typename V> PCL_TEXLET_HD void
+pcaLineSeries (int count, S a, V *e)
+{
+  const S b = std::sqrt (S (1) - a * a);
+  for (int x = 1; x < count; ++x)
+    e[x] = a * e[x - 1] + b * e[x];
 }
 
 /** \brief The moments of a sample from its linear term \a y and quadratic fluctuation \a u. */
@@ -355,19 +388,20 @@ pcaLineSums (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaMod
   }
 }
 
-/** \brief pcaSampleMoments() with the shared noise by column: its column normals \a e (the
-  * per-point sampler's SharedDraw::e law) in place of the whole patch's z[15].
+/** \brief pcaSampleMoments() with the shared noise by column: its column normals \a e
+  * (pcaLineSeries(): the per-point sampler's SharedDraw::e law) in place of the whole patch's
+  * z[15]. \a V is S or a SIMD lane type holding several samples, one a lane.
   */
-template <typename S> PCL_TEXLET_HD void
-pcaLineSampleMoments (const PcaSampleModel<S> &md, const PcaLineSums<S> &cols, const S *z, const S *e, S m[3],
-                        S c[6])
+template <typename S, typename V> PCL_TEXLET_HD void
+pcaLineSampleMoments (const PcaSampleModel<S> &md, const PcaLineSums<S> &cols, const V *z, const V *e, V m[3],
+                      V c[6])
 {
-  S y[9], u[6];
+  V y[9], u[6];
   md.lin.apply (z, y);
   md.quad.apply (z + 9, u);
   for (int x = 0; x < cols.count; ++x)
   {
-    const S h2 = e[x] * e[x] - S (1);
+    const V h2 = e[x] * e[x] - S (1);
     for (int i = 0; i < 9; ++i)
       y[i] += cols.w[x][i] * e[x];
     for (int k = 0; k < 6; ++k)

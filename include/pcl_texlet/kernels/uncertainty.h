@@ -71,39 +71,60 @@ analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k
   cs[3] += sd * j1; cs[4] += sd * j2; cs[5] += sd * a;
 }
 
-/** \brief One point's analyticPlaneTerms() into \a cs, and with \a Gp also apart in Gp[k]. */
+/** \brief Where analyticPlaneTermsOfAll() also adds each point's SD-weighted Jacobians (6
+  * values): nowhere (null \a rows), row k per point k (the window's form), or summed by line,
+  * row line (k) - \a first_line (the lines' form).
+  */
+template <typename S>
+struct JacobianRows
+{
+  S (*rows)[6] = nullptr;
+  bool by_line = false;
+  int first_line = 0;
+
+  PCL_TEXLET_HD S *
+  of (const Neighbourhood<S> &nb, int k) const
+  {
+    return rows[by_line ? nb.line (k) - first_line : k];
+  }
+};
+
+/** \brief One point's analyticPlaneTerms(), its SD-weighted Jacobians into \a cs and \a out. */
 template <typename S> PCL_TEXLET_HD void
 analyticPointTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k, const PlaneFit<S> &fit, S inv_d1,
                     S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S inv_n, S e1m, S e2m, S cp[6], S cn[3], S &ct, S cs[6],
-                    S (*Gp)[6])
+                    const JacobianRows<S> &out)
 {
-  if (!Gp)
+  if (!out.rows)
   {
     analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs);
     return;
   }
+  S G[6] = {S (0), S (0), S (0), S (0), S (0), S (0)};
+  analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, G);
+  S *row = out.of (nb, k);
   for (int j = 0; j < 6; ++j)
-    Gp[k][j] = S (0);
-  analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, Gp[k]);
-  for (int j = 0; j < 6; ++j)
-    cs[j] += Gp[k][j];
+  {
+    cs[j] += G[j];
+    row[j] += G[j];
+  }
 }
 
 /** \brief analyticPlaneTerms() of every point of \a nb into the four slots k mod 4 of \a cp,
   * \a cn, \a ct and \a cs (which start at 0), four points at a time in SIMD lanes on the host;
-  * with \a Gp, each point's SD-weighted Jacobians also apart in Gp[k] (for the window's form).
+  * each point's SD-weighted Jacobians also added to their row of \a out (which starts at 0).
   */
 template <typename S> PCL_TEXLET_HD void
 analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit, S inv_d1,
                          S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S inv_n, S e1m, S e2m, S cp[4][6], S cn[4][3],
-                         S ct[4], S cs[4][6], S (*Gp)[6])
+                         S ct[4], S cs[4][6], const JacobianRows<S> &out)
 {
   const int full = nb.count & ~3;
 #if defined(__GNUC__) && !defined(__CUDACC__)
   // The same terms as analyticPlaneTerms, four points at a time in vector types.
   typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
   Lane lp[6] = {}, ln[3] = {}, lt = {}, ls[6] = {};
-  const bool shared = nb.shared_fraction > S (0) || Gp;
+  const bool shared = nb.shared_fraction > S (0) || out.rows;
   for (int k = 0; k < full; k += 4)
   {
     Lane px, py, pz, sd;
@@ -135,12 +156,12 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
     {
       ls[0] += su * rx; ls[1] += su * ry; ls[2] += su * rz;
       ls[3] += su * j1; ls[4] += su * j2; ls[5] += su * a;
-      if (Gp)
+      if (out.rows)
         for (int i = 0; i < 4; ++i)
         {
-          S *G = Gp[k + i];
-          G[0] = su[i] * rx[i]; G[1] = su[i] * ry[i]; G[2] = su[i] * rz[i];
-          G[3] = su[i] * j1[i]; G[4] = su[i] * j2[i]; G[5] = su[i] * a[i];
+          S *G = out.of (nb, k + i);
+          G[0] += su[i] * rx[i]; G[1] += su[i] * ry[i]; G[2] += su[i] * rz[i];
+          G[3] += su[i] * j1[i]; G[4] += su[i] * j2[i]; G[5] += su[i] * a[i];
         }
     }
   }
@@ -158,11 +179,11 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
 #else
   for (int k = 0; k < full; ++k)
     analyticPointTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k & 3], cn[k & 3],
-                        ct[k & 3], cs[k & 3], Gp);
+                        ct[k & 3], cs[k & 3], out);
 #endif
   for (int k = full; k < nb.count; ++k)
     analyticPointTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k - full],
-                        cn[k - full], ct[k - full], cs[k - full], Gp);
+                        cn[k - full], ct[k - full], cs[k - full], out);
 }
 
 /** \brief Adds the shared parts of the noise to covariances of independent noise \a c (packed
@@ -229,10 +250,14 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
     for (int k = 0; k < nb.count; ++k)
     {
+      for (int j = 0; j < 6; ++j)
+        Gp[k][j] = S (0);
       pu[k] = nb.pixel[k] % nb.width;
       pv[k] = nb.pixel[k] / nb.width;
     }
-    analyticPlaneTermsOfAll (nb, mask, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs, Gp);
+    JacobianRows<S> rows;
+    rows.rows = Gp;
+    analyticPlaneTermsOfAll (nb, mask, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs, rows);
     if (rho > S (0))
     {
       S G[kMaxSharedLines][6] = {};
@@ -254,16 +279,19 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   {
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
     S G[kMaxSharedLines][6] = {};
-    for (int k = 0; k < nb.count; ++k)
-      analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k & 3],
-                          cn[k & 3], ct[k & 3], G[nb.line (k) - columns.first]);
+    JacobianRows<S> lines;
+    lines.rows = G;
+    lines.by_line = true;
+    lines.first_line = columns.first;
+    analyticPlaneTermsOfAll (nb, mask, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs,
+                             lines);
     lineForm<S, 6> (G, columns.count, nb.line_correlation, form);
 #endif
   }
   else
   {
     analyticPlaneTermsOfAll (nb, mask, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs,
-                             static_cast<S (*)[6]> (nullptr));
+                             JacobianRows<S> ());
     if (rho > S (0)) // the patch shares it whole
     {
       S G[1][6];
@@ -703,32 +731,23 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
 
   SampleCovariance<S> acc;
   acc.reset (centre);
-  const LineSpan columns = sharedLines (nb);
-  if (columns.count > 0) // the shared noise by column: sample by sample, with its column normals
-  {
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
-    PcaLineSums<S> cols;
+  // The shared noise by column: each sample's column normals (Philox blocks from
+  // kSharedNoiseBlock), an AR(1) series across the columns (pcaLineSeries()).
+  const LineSpan columns = sharedLines (nb);
+  PcaLineSums<S> cols;
+  if (columns.count > 0)
     pcaLineSums (nb, mask, basis, columns, n, cols);
-    for (int s = 0; s < samples; ++s)
-    {
-      S z[kPcaSampleNormals], m[3], c[6], a1, a2;
-      Vec3<S> dP;
-      pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
-      const SharedDraw<S> shared (nb, columns, false, seed, texlet, s);
-      pcaLineSampleMoments (md, cols, z, shared.e, m, c);
-      if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
-        acc.add (dP, a1, a2);
-    }
+  const int line_blocks = pcaLineNormalBlocks (cols.count);
+  const S line_a = nb.line_correlation;
 #endif
-    acc.finish (cov_p, cov_n);
-    return;
-  }
 #if !defined(__CUDACC__)
   Vec3<S> dP;
   S a1, a2;
   constexpr int chunk = 32; // samples whose normals are drawn at once
   std::uint32_t words[4 * chunk];
-  S zs[kPcaSampleNormals][chunk]; // normal j of sample first + i at zs[j][i]
+  S zs[kPcaSampleNormals][chunk];              // normal j of sample first + i at zs[j][i]
+  S es[4 * ((kMaxSharedLines + 3) / 4)][chunk]; // column x's normal of sample first + i at es[x][i]
   for (int first = 0; first < samples; first += chunk)
   {
     const int ns = samples - first < chunk ? samples - first : chunk;
@@ -736,6 +755,9 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     for (int b = 0; b < 4; ++b)
       normalSamples (seed, texlet, static_cast<std::uint32_t> (b), first, ndraw, words, zs[4 * b], zs[4 * b + 1],
                      zs[4 * b + 2], zs[4 * b + 3]);
+    for (int b = 0; b < line_blocks; ++b)
+      normalSamples (seed, texlet, kSharedNoiseBlock + static_cast<std::uint32_t> (b), first, ndraw, words, es[4 * b],
+                     es[4 * b + 1], es[4 * b + 2], es[4 * b + 3]);
 #if defined(__GNUC__)
     // Moments of four samples at a time, one a lane; the re-fits one by one.
     typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
@@ -745,7 +767,16 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       PCL_TEXLET_UNROLL_LOOP
       for (int j = 0; j < kPcaSampleNormals; ++j)
         std::memcpy (&zl[j], zs[j] + i, sizeof (Lane));
-      pcaSampleMoments (md, zl, ml, cl);
+      if (cols.count > 0)
+      {
+        Lane el[kMaxSharedLines];
+        for (int x = 0; x < cols.count; ++x)
+          std::memcpy (&el[x], es[x] + i, sizeof (Lane));
+        pcaLineSeries (cols.count, line_a, el);
+        pcaLineSampleMoments (md, cols, zl, el, ml, cl);
+      }
+      else
+        pcaSampleMoments (md, zl, ml, cl);
       for (int l = 0; l < 4 && i + l < ns; ++l)
       {
         const S m[3] = {ml[0][l], ml[1][l], ml[2][l]};
@@ -757,17 +788,40 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
 #else
     for (int i = 0; i < ns; ++i)
     {
-      S z[kPcaSampleNormals];
+      S z[kPcaSampleNormals], e[kMaxSharedLines], m[3], c[6];
       for (int j = 0; j < kPcaSampleNormals; ++j)
         z[j] = zs[j][i];
-      if (pcaSampleRefit (md, z, dP, a1, a2))
+      for (int x = 0; x < cols.count; ++x)
+        e[x] = es[x][i];
+      pcaLineSeries (cols.count, line_a, e);
+      if (cols.count > 0)
+        pcaLineSampleMoments (md, cols, z, e, m, c);
+      else
+        pcaSampleMoments (md, z, m, c);
+      if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
         acc.add (dP, a1, a2);
     }
 #endif
   }
 #else
   for (int s = 0; s < samples; ++s)
+  {
+#if !defined(__CUDA_ARCH__)
+    if (cols.count > 0) // the same normals one sample at a time
+    {
+      S z[kPcaSampleNormals], e[4 * ((kMaxSharedLines + 3) / 4)], m[3], c[6], a1, a2;
+      Vec3<S> dP;
+      pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
+      sampleNormalBlocks (seed, texlet, static_cast<std::uint32_t> (s), kSharedNoiseBlock, line_blocks, e);
+      pcaLineSeries (cols.count, line_a, e);
+      pcaLineSampleMoments (md, cols, z, e, m, c);
+      if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
+        acc.add (dP, a1, a2);
+      continue;
+    }
+#endif
     addPcaSample (md, seed, texlet, s, acc);
+  }
 #endif
   acc.finish (cov_p, cov_n);
 }
