@@ -414,7 +414,7 @@ TEST (PcaSampler, ColumnSharedNoiseKernelEqualsTheSampleBySamplePieces)
 {
   // With noise shared by column, the host kernel draws every sample's column normals in batches
   // and takes four samples a step in SIMD lanes; one sample at a time (pcaSampleNormals,
-  // sampleNormalBlocks, pcaLineSeries, pcaLineSampleMoments) draws the same normals: equal to
+  // sampleNormalBlocks, lineSeries, pcaLineSampleMoments) draws the same normals: equal to
   // summation rounding.
   std::mt19937 rng (14);
   for (int trial = 0; trial < 8; ++trial)
@@ -449,7 +449,7 @@ TEST (PcaSampler, ColumnSharedNoiseKernelEqualsTheSampleBySamplePieces)
       pcaSampleNormals (5u, 600u + trial, static_cast<std::uint32_t> (s), z);
       sampleNormalBlocks (5u, 600u + trial, static_cast<std::uint32_t> (s), kSharedNoiseBlock,
                           pcaLineNormalBlocks (cols.count), e);
-      pcaLineSeries (cols.count, patch.nb.line_correlation, e);
+      lineSeries (cols.count, patch.nb.line_correlation, e);
       pcaLineSampleMoments (md, cols, z, e, mo, c);
       if (pcaSampleRefitMoments (md, mo, c, dP, a1, a2))
         acc.add (dP, a1, a2);

@@ -303,18 +303,6 @@ pcaLineNormalBlocks (int columns)
   return (columns + 3) / 4;
 }
 
-/** \brief Turns a sample's \a count column normals \a e (independent on entry) into the AR(1)
-  * series of the shared noise across columns, e_x = a e_(x-1) + sqrt(1 - a^2) h_x (SharedDraw's
-  * law: columns du apart correlate by a^|du|). \a V is S or a SIMD lane type.
-  */
-template <typename S, typename V> PCL_TEXLET_HD void
-pcaLineSeries (int count, S a, V *e)
-{
-  const S b = std::sqrt (S (1) - a * a);
-  for (int x = 1; x < count; ++x)
-    e[x] = a * e[x - 1] + b * e[x];
-}
-
 /** \brief The moments of a sample from its linear term \a y and quadratic fluctuation \a u. */
 template <typename S, typename V> PCL_TEXLET_HD void
 pcaSampleMomentsOf (const PcaSampleModel<S> &md, const V y[9], const V u[6], V m[3], V c[6])
@@ -389,7 +377,7 @@ pcaLineSums (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaMod
 }
 
 /** \brief pcaSampleMoments() with the shared noise by column: its column normals \a e
-  * (pcaLineSeries(): the per-point sampler's SharedDraw::e law) in place of the whole patch's
+  * (lineSeries(): the per-point sampler's SharedDraw::e law) in place of the whole patch's
   * z[15]. \a V is S or a SIMD lane type holding several samples, one a lane.
   */
 template <typename S, typename V> PCL_TEXLET_HD void

@@ -334,6 +334,18 @@ struct WindowDraw
   }
 };
 
+/** \brief Turns \a count independent normals \a e, one a line, into the AR(1) series of the
+  * shared noise across the lines, e_x = a e_(x-1) + sqrt(1 - a^2) h_x: lines du apart correlate
+  * by a^|du|. \a V is S or a SIMD lane type (several samples' series, one a lane).
+  */
+template <typename S, typename V> PCL_TEXLET_HD void
+lineSeries (int count, S a, V *e)
+{
+  const S b = std::sqrt (S (1) - a * a);
+  for (int x = 1; x < count; ++x)
+    e[x] = a * e[x - 1] + b * e[x];
+}
+
 /** \brief Philox block of the shared normals: beyond any disc's point blocks. */
 constexpr std::uint32_t kSharedNoiseBlock = 0x40000000u;
 
@@ -366,15 +378,15 @@ struct SharedDraw
       return;
     root = std::sqrt (nb.shared_fraction);
     const int n = span.count > 0 ? span.count : 1;
-    const S a = span.count > 0 ? nb.line_correlation : S (1), b = std::sqrt (S (1) - a * a);
     float g[4];
     for (int x = 0; x < n; ++x)
     {
       if ((x & 3) == 0)
         normalQuad (seed, texlet, static_cast<std::uint32_t> (s), kSharedNoiseBlock + static_cast<std::uint32_t> (x >> 2),
                     g);
-      e[x] = x == 0 ? S (g[0]) : a * e[x - 1] + b * S (g[x & 3]);
+      e[x] = S (g[x & 3]);
     }
+    lineSeries (n, span.count > 0 ? nb.line_correlation : S (1), e);
   }
 
   /** \brief Point \a k's standardised noise from its own normal \a g. */

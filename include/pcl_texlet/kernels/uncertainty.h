@@ -733,7 +733,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   acc.reset (centre);
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
   // The shared noise by column: each sample's column normals (Philox blocks from
-  // kSharedNoiseBlock), an AR(1) series across the columns (pcaLineSeries()).
+  // kSharedNoiseBlock), an AR(1) series across the columns (lineSeries()).
   const LineSpan columns = sharedLines (nb);
   PcaLineSums<S> cols;
   if (columns.count > 0)
@@ -772,7 +772,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
         Lane el[kMaxSharedLines];
         for (int x = 0; x < cols.count; ++x)
           std::memcpy (&el[x], es[x] + i, sizeof (Lane));
-        pcaLineSeries (cols.count, line_a, el);
+        lineSeries (cols.count, line_a, el);
         pcaLineSampleMoments (md, cols, zl, el, ml, cl);
       }
       else
@@ -793,7 +793,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
         z[j] = zs[j][i];
       for (int x = 0; x < cols.count; ++x)
         e[x] = es[x][i];
-      pcaLineSeries (cols.count, line_a, e);
+      lineSeries (cols.count, line_a, e);
       if (cols.count > 0)
         pcaLineSampleMoments (md, cols, z, e, m, c);
       else
@@ -813,7 +813,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       Vec3<S> dP;
       pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
       sampleNormalBlocks (seed, texlet, static_cast<std::uint32_t> (s), kSharedNoiseBlock, line_blocks, e);
-      pcaLineSeries (cols.count, line_a, e);
+      lineSeries (cols.count, line_a, e);
       pcaLineSampleMoments (md, cols, z, e, m, c);
       if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
         acc.add (dP, a1, a2);
