@@ -45,6 +45,8 @@
 #include <pcl_texlet/kernels/shared_noise.h>
 #include <pcl_texlet/kernels/sym_eigen3.h>
 
+#include <cstring>
+
 namespace pcl
 {
 namespace texlet
@@ -205,6 +207,71 @@ addPcaModelPoints (const Neighbourhood<S> &nb, const unsigned char *mask, const 
     n += mask[k] ? 1 : 0;
   }
   return n;
+}
+
+/** \brief The sums of the Gaussian model over every point of \a nb (pcaModelPoint()), four
+  * points at a time in SIMD lanes on the host, one at a time on the device. Where \a weights is
+  * not null, point k's linear weights (pcaModelWeights()) are also kept at weights[k], for the
+  * window's form (shared_noise.h).
+  */
+template <typename S> PCL_TEXLET_HD void
+pcaModelSumsOf (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaModelBasis<S> &b,
+                PcaModelSums<S> &sums, S (*weights)[9])
+{
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+  Lane lanes[PcaModelSums<S>::kCount] = {};
+  for (int k = 0; k < nb.count; k += 4)
+  {
+    S bx[4], by[4], bz[4], bs[4], bu[4];
+    PCL_TEXLET_UNROLL_LOOP
+    for (int i = 0; i < 4; ++i)
+    {
+      const bool in = k + i < nb.count;
+      bx[i] = in ? nb.x[k + i] : S (0);
+      by[i] = in ? nb.y[k + i] : S (0);
+      bz[i] = in ? nb.z[k + i] : S (1);
+      bs[i] = in ? nb.sigma[k + i] : S (0);
+      bu[i] = in && mask[k + i] ? S (1) : S (0);
+    }
+    Lane px, py, pz, sd, use;
+    std::memcpy (&px, bx, sizeof px);
+    std::memcpy (&py, by, sizeof py);
+    std::memcpy (&pz, bz, sizeof pz);
+    std::memcpy (&sd, bs, sizeof sd);
+    std::memcpy (&use, bu, sizeof use);
+    const Lane dx = px - b.P0.x, dy = py - b.P0.y, dz = pz - b.P0.z;
+    const Lane f = use * sd / pz;
+    Lane q[3], a[3];
+    for (int i = 0; i < 3; ++i)
+    {
+      const Lane qi = b.axes[i].x * dx + b.axes[i].y * dy + b.axes[i].z * dz;
+      q[i] = use * qi;
+      a[i] = f * (qi + b.P0b[i]);
+    }
+    addPcaModelTerms (lanes, q, a);
+    if (weights)
+    {
+      Lane w[9];
+      pcaModelWeights (q, a, w);
+      for (int i = 0; i < 4 && k + i < nb.count; ++i)
+        for (int j = 0; j < 9; ++j)
+          weights[k + i][j] = w[j][i];
+    }
+  }
+  for (int i = 0; i < PcaModelSums<S>::kCount; ++i)
+    sums.v[i] = (lanes[i][0] + lanes[i][1]) + (lanes[i][2] + lanes[i][3]);
+#else
+  sums.reset ();
+  for (int k = 0; k < nb.count; ++k)
+  {
+    S q[3], a[3];
+    pcaModelPoint (nb, mask, k, b.P0, b.axes, b.P0b, q, a);
+    sums.add (q, a);
+    if (weights)
+      pcaModelWeights (q, a, weights[k]);
+  }
+#endif
 }
 
 /** \brief Makes the model from the sums over \a n inliers; \a n0, \a t1, \a t2 are the
@@ -396,6 +463,24 @@ pcaLineSampleMoments (const PcaSampleModel<S> &md, const PcaLineSums<S> &cols, c
       u[k] += cols.A[x][k] * h2;
   }
   pcaSampleMomentsOf (md, y, u, m, c);
+}
+
+/** \brief A sample's moments with its shared noise as the texlet has it: by column where
+  * \a cols has columns (\a e: the sample's column normals, made into their series across the
+  * columns in place, lineSeries() with correlation \a line_a; pcaLineSampleMoments()), else
+  * shared by the whole patch (pcaSampleMoments()). \a V is S or a SIMD lane type.
+  */
+template <typename S, typename V> PCL_TEXLET_HD void
+pcaSharedNoiseSampleMoments (const PcaSampleModel<S> &md, const PcaLineSums<S> &cols, S line_a, const V *z, V *e,
+                             V m[3], V c[6])
+{
+  if (cols.count > 0)
+  {
+    lineSeries (cols.count, line_a, e);
+    pcaLineSampleMoments (md, cols, z, e, m, c);
+  }
+  else
+    pcaSampleMoments (md, z, m, c);
 }
 
 /** \brief The re-fit of one sample from its moments (pcaSampleMoments()), as fitPlanePca()

@@ -43,32 +43,51 @@ fillNaN (S *c, int n)
     c[i] = S (NAN);
 }
 
-/** \brief Adds point \a k's first-order terms to lane sums (see analyticPlaneCovariance): the
-  * variance-weighted products of its Jacobians and, in \a cs, the SD-weighted Jacobians (r, j1,
-  * j2, a) that the shared part of the noise sums before it squares them.
-  */
-template <typename S> PCL_TEXLET_HD void
-analyticPlaneTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k, const PlaneFit<S> &fit, S inv_d1,
-                    S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S inv_n, S e1m, S e2m, S cp[6], S cn[3], S &ct,
-                    S cs[6])
+/** \brief The measured fit's factors in the first-order terms of analyticPlaneCovariance(). */
+template <typename S>
+struct AnalyticPlaneFactors
 {
-  const Vec3<S> p = nb.point (k);
-  const Vec3<S> r = (S (1) / p.z) * p; // dp = r dz
-  const Vec3<S> q = p - fit.P;
-  const S sd = mask[k] ? nb.sigma[k] : S (0), var = sd * sd;
-  cp[0] += var * r.x * r.x; cp[1] += var * r.x * r.y; cp[2] += var * r.x * r.z;
-  cp[3] += var * r.y * r.y; cp[4] += var * r.y * r.z; cp[5] += var * r.z * r.z;
-  const S h = dot (q, fit.N), re0 = dot (r, fit.N);
-  const S c1 = -(dot (fit.e1, r) * h + dot (fit.e1, q) * re0) * inv_d1;
-  const S c2 = -(dot (fit.e2, r) * h + dot (fit.e2, q) * re0) * inv_d2;
-  const S j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
+  S inv_d1, inv_d2;         ///< 1 / (n (l1 - l0)), 1 / (n (l2 - l0)), n inliers
+  S e1t1, e1t2, e2t1, e2t2; ///< the eigenvectors e1, e2 dot the tangents t1, t2
+  S inv_n, e1m, e2m;        ///< the ray step's: 1 / n, and e1, e2 dot the mean's offset M - P
+};
+
+/** \brief Adds the first-order terms of one point, or of four in SIMD lanes (\a V: the scalar or
+  * a lane type, the same arithmetic either way), at (\a px, \a py, \a pz) with depth SD \a sd
+  * and \a use 1 for an inlier, 0 else: the variance-weighted products of its Jacobians per unit
+  * depth step (r = dp/dz, the normal's tangent angles j1 and j2, the ray step a) to \a cp,
+  * \a cn and \a ct, and where \a shared its SD-weighted Jacobians (r, j1, j2, a) into \a G and
+  * onto \a cs, which the shared part of the noise sums before it squares them.
+  */
+template <typename V, typename S> PCL_TEXLET_HD void
+addAnalyticPlaneTerms (const V &px, const V &py, const V &pz, const V &sd, const V &use, const PlaneFit<S> &fit,
+                       const AnalyticPlaneFactors<S> &f, bool shared, V cp[6], V cn[3], V &ct, V cs[6], V G[6])
+{
+  const V iz = S (1) / pz;
+  const V rx = iz * px, ry = iz * py, rz = iz * pz; // dp = r dz
+  const V qx = px - fit.P.x, qy = py - fit.P.y, qz = pz - fit.P.z;
+  const V su = use * sd, var = su * sd;
+  cp[0] += var * rx * rx; cp[1] += var * rx * ry; cp[2] += var * rx * rz;
+  cp[3] += var * ry * ry; cp[4] += var * ry * rz; cp[5] += var * rz * rz;
+  const V h = qx * fit.N.x + qy * fit.N.y + qz * fit.N.z, re0 = rx * fit.N.x + ry * fit.N.y + rz * fit.N.z;
+  const V c1 = -((rx * fit.e1.x + ry * fit.e1.y + rz * fit.e1.z) * h +
+                 (qx * fit.e1.x + qy * fit.e1.y + qz * fit.e1.z) * re0) * f.inv_d1;
+  const V c2 = -((rx * fit.e2.x + ry * fit.e2.y + rz * fit.e2.z) * h +
+                 (qx * fit.e2.x + qy * fit.e2.y + qz * fit.e2.z) * re0) * f.inv_d2;
+  const V j1 = c1 * f.e1t1 + c2 * f.e2t1, j2 = c1 * f.e1t2 + c2 * f.e2t2;
   cn[0] += var * j1 * j1;
   cn[1] += var * j1 * j2;
   cn[2] += var * j2 * j2;
-  const S a = re0 * inv_n + c1 * e1m + c2 * e2m;
+  const V a = re0 * f.inv_n + c1 * f.e1m + c2 * f.e2m;
   ct += var * a * a;
-  cs[0] += sd * r.x; cs[1] += sd * r.y; cs[2] += sd * r.z;
-  cs[3] += sd * j1; cs[4] += sd * j2; cs[5] += sd * a;
+  if (shared)
+  {
+    G[0] = su * rx; G[1] = su * ry; G[2] = su * rz;
+    G[3] = su * j1; G[4] = su * j2; G[5] = su * a;
+    PCL_TEXLET_UNROLL_LOOP
+    for (int j = 0; j < 6; ++j)
+      cs[j] += G[j];
+  }
 }
 
 /** \brief Where analyticPlaneTermsOfAll() also adds each point's SD-weighted Jacobians (6
@@ -89,81 +108,39 @@ struct JacobianRows
   }
 };
 
-/** \brief One point's analyticPlaneTerms(), its SD-weighted Jacobians into \a cs and \a out. */
-template <typename S> PCL_TEXLET_HD void
-analyticPointTerms (const Neighbourhood<S> &nb, const unsigned char *mask, int k, const PlaneFit<S> &fit, S inv_d1,
-                    S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S inv_n, S e1m, S e2m, S cp[6], S cn[3], S &ct, S cs[6],
-                    const JacobianRows<S> &out)
-{
-  if (!out.rows)
-  {
-    analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs);
-    return;
-  }
-  S G[6] = {S (0), S (0), S (0), S (0), S (0), S (0)};
-  analyticPlaneTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, G);
-  S *row = out.of (nb, k);
-  for (int j = 0; j < 6; ++j)
-  {
-    cs[j] += G[j];
-    row[j] += G[j];
-  }
-}
-
-/** \brief analyticPlaneTerms() of every point of \a nb into the four slots k mod 4 of \a cp,
+/** \brief addAnalyticPlaneTerms() of every point of \a nb into the four slots k mod 4 of \a cp,
   * \a cn, \a ct and \a cs (which start at 0), four points at a time in SIMD lanes on the host;
   * each point's SD-weighted Jacobians also added to their row of \a out (which starts at 0).
+  * \a cs is summed only where the noise has a shared part or \a out has rows.
   */
 template <typename S> PCL_TEXLET_HD void
-analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit, S inv_d1,
-                         S inv_d2, S e1t1, S e1t2, S e2t1, S e2t2, S inv_n, S e1m, S e2m, S cp[4][6], S cn[4][3],
-                         S ct[4], S cs[4][6], const JacobianRows<S> &out)
+analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, const PlaneFit<S> &fit,
+                         const AnalyticPlaneFactors<S> &f, S cp[4][6], S cn[4][3], S ct[4], S cs[4][6],
+                         const JacobianRows<S> &out)
 {
-  const int full = nb.count & ~3;
+  const bool shared = nb.shared_fraction > S (0) || out.rows;
+  int scalar_from = 0;
 #if defined(__GNUC__) && !defined(__CUDACC__)
-  // The same terms as analyticPlaneTerms, four points at a time in vector types.
   typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
   Lane lp[6] = {}, ln[3] = {}, lt = {}, ls[6] = {};
-  const bool shared = nb.shared_fraction > S (0) || out.rows;
-  for (int k = 0; k < full; k += 4)
+  scalar_from = nb.count & ~3;
+  for (int k = 0; k < scalar_from; k += 4)
   {
-    Lane px, py, pz, sd;
+    Lane px, py, pz, sd, use, G[6];
     std::memcpy (&px, nb.x + k, sizeof px);
     std::memcpy (&py, nb.y + k, sizeof py);
     std::memcpy (&pz, nb.z + k, sizeof pz);
     std::memcpy (&sd, nb.sigma + k, sizeof sd);
-    Lane use;
     for (int i = 0; i < 4; ++i)
       use[i] = mask[k + i] ? S (1) : S (0);
-    const Lane iz = S (1) / pz;
-    const Lane rx = iz * px, ry = iz * py, rz = iz * pz;
-    const Lane qx = px - fit.P.x, qy = py - fit.P.y, qz = pz - fit.P.z;
-    const Lane su = use * sd, var = su * sd;
-    lp[0] += var * rx * rx; lp[1] += var * rx * ry; lp[2] += var * rx * rz;
-    lp[3] += var * ry * ry; lp[4] += var * ry * rz; lp[5] += var * rz * rz;
-    const Lane h = qx * fit.N.x + qy * fit.N.y + qz * fit.N.z, re0 = rx * fit.N.x + ry * fit.N.y + rz * fit.N.z;
-    const Lane c1 = -((rx * fit.e1.x + ry * fit.e1.y + rz * fit.e1.z) * h +
-                      (qx * fit.e1.x + qy * fit.e1.y + qz * fit.e1.z) * re0) * inv_d1;
-    const Lane c2 = -((rx * fit.e2.x + ry * fit.e2.y + rz * fit.e2.z) * h +
-                      (qx * fit.e2.x + qy * fit.e2.y + qz * fit.e2.z) * re0) * inv_d2;
-    const Lane j1 = c1 * e1t1 + c2 * e2t1, j2 = c1 * e1t2 + c2 * e2t2;
-    ln[0] += var * j1 * j1;
-    ln[1] += var * j1 * j2;
-    ln[2] += var * j2 * j2;
-    const Lane a = re0 * inv_n + c1 * e1m + c2 * e2m;
-    lt += var * a * a;
-    if (shared)
-    {
-      ls[0] += su * rx; ls[1] += su * ry; ls[2] += su * rz;
-      ls[3] += su * j1; ls[4] += su * j2; ls[5] += su * a;
-      if (out.rows)
-        for (int i = 0; i < 4; ++i)
-        {
-          S *G = out.of (nb, k + i);
-          G[0] += su[i] * rx[i]; G[1] += su[i] * ry[i]; G[2] += su[i] * rz[i];
-          G[3] += su[i] * j1[i]; G[4] += su[i] * j2[i]; G[5] += su[i] * a[i];
-        }
-    }
+    addAnalyticPlaneTerms (px, py, pz, sd, use, fit, f, shared, lp, ln, lt, ls, G);
+    if (out.rows)
+      for (int i = 0; i < 4; ++i)
+      {
+        S *row = out.of (nb, k + i);
+        for (int j = 0; j < 6; ++j)
+          row[j] += G[j][i];
+      }
   }
   for (int i = 0; i < 4; ++i)
   {
@@ -176,14 +153,20 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
       cn[i][j] = ln[j][i];
     ct[i] = lt[i];
   }
-#else
-  for (int k = 0; k < full; ++k)
-    analyticPointTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k & 3], cn[k & 3],
-                        ct[k & 3], cs[k & 3], out);
 #endif
-  for (int k = full; k < nb.count; ++k)
-    analyticPointTerms (nb, mask, k, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp[k - full],
-                        cn[k - full], ct[k - full], cs[k - full], out);
+  for (int k = scalar_from; k < nb.count; ++k) // the lanes' remainder; every point on the device
+  {
+    S G[6];
+    const int i = k & 3;
+    addAnalyticPlaneTerms (nb.x[k], nb.y[k], nb.z[k], nb.sigma[k], mask[k] ? S (1) : S (0), fit, f, shared, cp[i],
+                           cn[i], ct[i], cs[i], G);
+    if (out.rows)
+    {
+      S *row = out.of (nb, k);
+      for (int j = 0; j < 6; ++j)
+        row[j] += G[j];
+    }
+  }
 }
 
 /** \brief Adds the shared parts of the noise to covariances of independent noise \a c (packed
@@ -223,11 +206,18 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   for (int k = 0; k < nb.count; ++k)
     n_in += mask[k] ? 1 : 0;
   const S d1 = S (n_in) * (fit.lambda[1] - fit.lambda[0]), d2 = S (n_in) * (fit.lambda[2] - fit.lambda[0]);
-  const S inv_d1 = S (1) / d1, inv_d2 = S (1) / d2;
+  AnalyticPlaneFactors<S> f;
+  f.inv_d1 = S (1) / d1;
+  f.inv_d2 = S (1) / d2;
   // Where the tangents point in the eigenbasis: de0 = c1 e1 + c2 e2 -> (de0.t1, de0.t2).
-  const S e1t1 = dot (fit.e1, t1), e1t2 = dot (fit.e1, t2), e2t1 = dot (fit.e2, t1), e2t2 = dot (fit.e2, t2);
+  f.e1t1 = dot (fit.e1, t1);
+  f.e1t2 = dot (fit.e1, t2);
+  f.e2t1 = dot (fit.e2, t1);
+  f.e2t2 = dot (fit.e2, t2);
   // The ray step's terms: N.dM per point's dz is (N.r) / n, dN.(M - P) is c1 e1m + c2 e2m.
-  const S inv_n = S (1) / S (n_in), e1m = dot (fit.e1, centre.mean_offset), e2m = dot (fit.e2, centre.mean_offset);
+  f.inv_n = S (1) / S (n_in);
+  f.e1m = dot (fit.e1, centre.mean_offset);
+  f.e2m = dot (fit.e2, centre.mean_offset);
   S cp[4][6], cn[4][3], ct[4] = {S (0), S (0), S (0), S (0)}, cs[4][6];
   for (int i = 0; i < 4; ++i)
   {
@@ -257,7 +247,7 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     }
     JacobianRows<S> rows;
     rows.rows = Gp;
-    analyticPlaneTermsOfAll (nb, mask, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs, rows);
+    analyticPlaneTermsOfAll (nb, mask, fit, f, cp, cn, ct, cs, rows);
     if (rho > S (0))
     {
       S G[kMaxSharedLines][6] = {};
@@ -283,15 +273,13 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     lines.rows = G;
     lines.by_line = true;
     lines.first_line = columns.first;
-    analyticPlaneTermsOfAll (nb, mask, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs,
-                             lines);
+    analyticPlaneTermsOfAll (nb, mask, fit, f, cp, cn, ct, cs, lines);
     lineForm<S, 6> (G, columns.count, nb.line_correlation, form);
 #endif
   }
   else
   {
-    analyticPlaneTermsOfAll (nb, mask, fit, inv_d1, inv_d2, e1t1, e1t2, e2t1, e2t2, inv_n, e1m, e2m, cp, cn, ct, cs,
-                             JacobianRows<S> ());
+    analyticPlaneTermsOfAll (nb, mask, fit, f, cp, cn, ct, cs, JacobianRows<S> ());
     if (rho > S (0)) // the patch shares it whole
     {
       S G[1][6];
@@ -315,7 +303,7 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   }
   else
   {
-    const S inv_n2 = inv_n * inv_n;
+    const S inv_n2 = f.inv_n * f.inv_n;
     for (int j = 0; j < 6; ++j)
       cov_p[j] = ((cp[0][j] + cp[1][j]) + (cp[2][j] + cp[3][j])) * inv_n2;
     if (shared)
@@ -663,67 +651,25 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     return;
   }
   PcaModelSums<S> sums;
-#if defined(__GNUC__) && !defined(__CUDACC__)
-  {
-    // pcaModelPoint() four points at a time, one per lane.
-    typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
-    Lane lanes[PcaModelSums<S>::kCount] = {};
-    for (int k = 0; k < nb.count; k += 4)
-    {
-      S bx[4], by[4], bz[4], bs[4], bu[4];
-      PCL_TEXLET_UNROLL_LOOP
-      for (int i = 0; i < 4; ++i)
-      {
-        const bool in = k + i < nb.count;
-        bx[i] = in ? nb.x[k + i] : S (0);
-        by[i] = in ? nb.y[k + i] : S (0);
-        bz[i] = in ? nb.z[k + i] : S (1);
-        bs[i] = in ? nb.sigma[k + i] : S (0);
-        bu[i] = in && mask[k + i] ? S (1) : S (0);
-      }
-      Lane px, py, pz, sd, use;
-      std::memcpy (&px, bx, sizeof px);
-      std::memcpy (&py, by, sizeof py);
-      std::memcpy (&pz, bz, sizeof pz);
-      std::memcpy (&sd, bs, sizeof sd);
-      std::memcpy (&use, bu, sizeof use);
-      const Lane dx = px - basis.P0.x, dy = py - basis.P0.y, dz = pz - basis.P0.z;
-      const Lane f = use * sd / pz;
-      Lane q[3], a[3];
-      for (int i = 0; i < 3; ++i)
-      {
-        const Lane qi = basis.axes[i].x * dx + basis.axes[i].y * dy + basis.axes[i].z * dz;
-        q[i] = use * qi;
-        a[i] = f * (qi + basis.P0b[i]);
-      }
-      addPcaModelTerms (lanes, q, a);
-    }
-    for (int i = 0; i < PcaModelSums<S>::kCount; ++i)
-      sums.v[i] = (lanes[i][0] + lanes[i][1]) + (lanes[i][2] + lanes[i][3]);
-  }
-#else
-  sums.reset ();
-  addPcaModelPoints (nb, mask, basis, 0, 1, sums);
-#endif
   S window_ww[45];
   bool windowed = false;
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
   const WindowBox box = windowBox (nb);
-  if (box.on) // every point's linear weights, for the window's form (shared_noise.h)
+  S W[kMaxWindowPoints][9]; // with a window, every point's linear weights for its form
+  pcaModelSumsOf (nb, mask, basis, sums, box.on ? W : nullptr);
+  if (box.on)
   {
-    S W[kMaxWindowPoints][9];
     int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
     for (int k = 0; k < nb.count; ++k)
     {
-      S q[3], a[3];
-      pcaModelPoint (nb, mask, k, basis.P0, basis.axes, basis.P0b, q, a);
-      pcaModelWeights (q, a, W[k]);
       pu[k] = nb.pixel[k] % nb.width;
       pv[k] = nb.pixel[k] / nb.width;
     }
     windowForm<S, 9> (W, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_ww);
     windowed = true;
   }
+#else
+  pcaModelSumsOf (nb, mask, basis, sums, static_cast<S (*)[9]> (nullptr));
 #endif
   PcaSampleModel<S> md;
   preparePcaSampleModel (sums, n, nb.shared_fraction, fit, centre.N0, centre.t1, centre.t2, md, nb.window_fraction,
@@ -767,16 +713,10 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       PCL_TEXLET_UNROLL_LOOP
       for (int j = 0; j < kPcaSampleNormals; ++j)
         std::memcpy (&zl[j], zs[j] + i, sizeof (Lane));
-      if (cols.count > 0)
-      {
-        Lane el[kMaxSharedLines];
-        for (int x = 0; x < cols.count; ++x)
-          std::memcpy (&el[x], es[x] + i, sizeof (Lane));
-        lineSeries (cols.count, line_a, el);
-        pcaLineSampleMoments (md, cols, zl, el, ml, cl);
-      }
-      else
-        pcaSampleMoments (md, zl, ml, cl);
+      Lane el[kMaxSharedLines];
+      for (int x = 0; x < cols.count; ++x)
+        std::memcpy (&el[x], es[x] + i, sizeof (Lane));
+      pcaSharedNoiseSampleMoments (md, cols, line_a, zl, el, ml, cl);
       for (int l = 0; l < 4 && i + l < ns; ++l)
       {
         const S m[3] = {ml[0][l], ml[1][l], ml[2][l]};
@@ -793,34 +733,26 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
         z[j] = zs[j][i];
       for (int x = 0; x < cols.count; ++x)
         e[x] = es[x][i];
-      lineSeries (cols.count, line_a, e);
-      if (cols.count > 0)
-        pcaLineSampleMoments (md, cols, z, e, m, c);
-      else
-        pcaSampleMoments (md, z, m, c);
+      pcaSharedNoiseSampleMoments (md, cols, line_a, z, e, m, c);
       if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
         acc.add (dP, a1, a2);
     }
 #endif
   }
 #else
-  for (int s = 0; s < samples; ++s)
+  for (int s = 0; s < samples; ++s) // the same normals one sample at a time
   {
 #if !defined(__CUDA_ARCH__)
-    if (cols.count > 0) // the same normals one sample at a time
-    {
-      S z[kPcaSampleNormals], e[4 * ((kMaxSharedLines + 3) / 4)], m[3], c[6], a1, a2;
-      Vec3<S> dP;
-      pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
-      sampleNormalBlocks (seed, texlet, static_cast<std::uint32_t> (s), kSharedNoiseBlock, line_blocks, e);
-      lineSeries (cols.count, line_a, e);
-      pcaLineSampleMoments (md, cols, z, e, m, c);
-      if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
-        acc.add (dP, a1, a2);
-      continue;
-    }
-#endif
+    S z[kPcaSampleNormals], e[4 * ((kMaxSharedLines + 3) / 4)], m[3], c[6], a1, a2;
+    Vec3<S> dP;
+    pcaSampleNormals (seed, texlet, static_cast<std::uint32_t> (s), z);
+    sampleNormalBlocks (seed, texlet, static_cast<std::uint32_t> (s), kSharedNoiseBlock, line_blocks, e);
+    pcaSharedNoiseSampleMoments (md, cols, line_a, z, e, m, c);
+    if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
+      acc.add (dP, a1, a2);
+#else
     addPcaSample (md, seed, texlet, s, acc);
+#endif
   }
 #endif
   acc.finish (cov_p, cov_n);
