@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 
 #include <string>
 #include <vector>
@@ -81,6 +82,25 @@ TEST (ModelLabIndependentProof, FindsQuantisationBeforeTheNoise)
 {
   pcl_texlet_test::expectFoundIn (generateWalls ("disparity_quantization:where=before", 611, 320),
                                   "disparity_quantization", true);
+}
+// A published Kinect simulator rounds twice: the true disparity on camera.yaml's 1/8 px lattice
+// before its noise, and the noisy depth on a table of its own after it (351,300 / k mm where
+// camera.yaml implies 288,000 / k: 1.22 times). The term's third form (rounds_before_noise 2),
+// chosen by the data, with the second lattice read from the depths and camera.yaml's as the first.
+TEST (ModelLabIndependentProof, FindsQuantisationOnTwoLattices)
+{
+  const pcl_texlet_test::LabRun run = pcl_texlet_test::expectFoundIn (
+      generateWalls ("disparity_quantization:where=both,lattice_scale=1.22", 621, 320), "disparity_quantization", true);
+  ASSERT_FALSE (run.candidates.empty ());
+  const NoiseTerm::Ptr term = run.candidates.front ().model.find ("disparity_quantization");
+  ASSERT_TRUE (term);
+  std::map<std::string, double> settings;
+  for (const auto &kv : term->settings ())
+    settings[kv.first] = kv.second;
+  EXPECT_EQ (settings["rounds_before_noise"], 2.0);
+  EXPECT_EQ (settings["first_step_px"], 0.125);
+  // 1000 f b / C = 0.125 / 1.22 px, f b of the 320 px walls; the lattice as the depths show it.
+  EXPECT_NEAR (term->parameters ()[0], 0.125 / 1.22, 0.002);
 }
 TEST (ModelLabIndependentProof, FindsVerticalStripes)
 {

@@ -243,6 +243,36 @@ TEST (EffectTerms, TheLabReadsPropertiesNotNames)
   q0->setParameters ({0.125});
   q0->roundingMoments (40 * 0.125 + 0.01, 1e-9, offset_on_zero, var);
   EXPECT_NEAR (offset_on_zero, -0.01, 1e-12);
+  // Rounded on two lattices (rounds_before_noise 2): the true disparity on the first lattice
+  // (camera.yaml's step, from the facts), the noisy one on the term's. Without noise, 5.03 px goes
+  // to 5.0 on the 1/8 px lattice, then to 45 steps of 0.11 px (phase 0) = 4.95; with much noise the
+  // second rounding's staircase is gone (Sheppard: variance sigma^2 + step^2 / 12) and the first
+  // one's offset stays.
+  const NoiseTerm::Ptr q2 = makeNoiseTerm ("disparity_quantization");
+  facts.disparity_step_px = 0.125;
+  facts.lattice_step_px = 0.11;
+  facts.lattice_phase = 0;
+  q2->setLabStart (facts);
+  q2->setSetting ("rounds_before_noise", 2);
+  q2->roundingMoments (5.03, 1e-9, offset_on_lattice, var);
+  EXPECT_NEAR (offset_on_lattice, 4.95 - 5.03, 1e-12);
+  EXPECT_NEAR (var, 0.0, 1e-12);
+  q2->roundingMoments (5.03, 0.2, offset_on_lattice, var);
+  EXPECT_NEAR (offset_on_lattice, 5.0 - 5.03, 1e-9);
+  EXPECT_NEAR (var, 0.2 * 0.2 + 0.11 * 0.11 / 12.0, 1e-9);
+  // Two lattices where the noise is a third of the second's step: each level's probability by
+  // hand (5.0 + noise rounded to multiples of 0.11 px).
+  q2->roundingMoments (5.03, 0.04, offset_on_lattice, var);
+  double p_sum = 0, m1 = 0, m2 = 0;
+  for (int k = 40; k <= 50; ++k)
+  {
+    const double lo = ((k - 0.5) * 0.11 - 5.0) / (0.04 * std::sqrt (2.0)), hi = ((k + 0.5) * 0.11 - 5.0) / (0.04 * std::sqrt (2.0));
+    const double pk = 0.5 * (std::erf (hi) - std::erf (lo));
+    p_sum += pk, m1 += pk * k * 0.11, m2 += pk * k * 0.11 * k * 0.11;
+  }
+  EXPECT_NEAR (offset_on_lattice, m1 / p_sum - 5.03, 1e-9);
+  EXPECT_NEAR (var, m2 / p_sum - (m1 / p_sum) * (m1 / p_sum), 1e-9);
+  facts.disparity_step_px = 0;
   facts.lattice_step_px = 0;
   facts.lattice_phase = 0;
   const NoiseTerm::Ptr g = makeNoiseTerm ("depth_distortion");

@@ -36,9 +36,33 @@ struct ParameterMap
   std::vector<double> scale;
 };
 
-/** The parameters a fit changes: every term's but a linear bias term's (or only \a only_term's). */
+/** Whether \a term rounds on the lattice of step \a data_step_px (0: none) that the recordings'
+  * depths show (quantisation_lattice.h): the data fix that step, and a gradient could not fit it
+  * (the likelihood jumps wherever a level moves past a pixel's disparity). */
+bool
+onDataLattice (const NoiseTerm &term, double data_step_px)
+{
+  return term.quantises () && data_step_px > 0 && !term.parameters ().empty () &&
+         std::fabs (term.parameters ()[0] - data_step_px) <= 1e-9 * data_step_px;
+}
+
+/** The step of the lattice the recordings' depths show, 0 when they show camera.yaml's or none. */
+double
+dataLatticeStepPx (const NoiseModel &m, const std::vector<RecordingMeasurement::ConstPtr> &recs)
+{
+  bool rounds = false;
+  for (const auto &t : m.terms ())
+    rounds = rounds || t->quantises ();
+  if (!rounds || recs.empty ())
+    return 0;
+  const QuantisationLattice lattice = quantisationLattice (recs);
+  return lattice.constant_mm > 0 ? lattice.stepPx (recs.front ()->fb (), recs.front ()->camera.disparity_subpixel) : 0;
+}
+
+/** The parameters a fit changes: every term's but a linear bias term's and a rounding's on the
+  * data's lattice (\a data_step_px, onDataLattice()), or only \a only_term's. */
 ParameterMap
-parameterMap (const NoiseModel &m, int only_term = -1)
+parameterMap (const NoiseModel &m, int only_term = -1, double data_step_px = 0)
 {
   ParameterMap pm;
   for (std::size_t t = 0; t < m.terms ().size (); ++t)
@@ -47,7 +71,7 @@ parameterMap (const NoiseModel &m, int only_term = -1)
     // A linear bias term is fitted by least squares, not here; a term of the neighbours'
     // correlation changes no pixel's likelihood (spatial_correlation_fit.h).
     if (term->linearBiasSupport () > 0 || (only_term >= 0 && static_cast<int> (t) != only_term) ||
-        fittedToNeighbourPairs (term->name ()))
+        fittedToNeighbourPairs (term->name ()) || onDataLattice (*term, data_step_px))
       continue;
     const auto values = term->parameters ();
     for (std::size_t k = 0; k < values.size (); ++k)
@@ -224,7 +248,8 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
        const LabSettings &settings, int new_term, double nested_objective)
 {
   NoiseModel model (start);
-  const ParameterMap pm = parameterMap (model);
+  const double data_step_px = dataLatticeStepPx (model, recs);
+  const ParameterMap pm = parameterMap (model, -1, data_step_px);
   bool has_static = false; // a rounding or a linear bias term: the static fit changes with the rest
   for (const auto &t : model.terms ())
     has_static = has_static || t->quantises () || t->linearBiasSupport () > 0;
@@ -240,20 +265,23 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
   const int outer = has_static ? std::max (1, settings.outer_iterations) : std::min (2, std::max (1, settings.outer_iterations));
   if (new_term >= 0)
   {
-    const ParameterMap own = parameterMap (model, new_term);
-    if (!own.where.empty ())
+    const ParameterMap own = parameterMap (model, new_term, data_step_px);
+    const auto &term = model.terms ()[new_term];
+    if (!own.where.empty () || !term->formSearch ().empty ())
     {
       // Scan the scale of the term's first parameter in each of its forms, then fit its
-      // parameters alone in the best.
-      const auto &term = model.terms ()[new_term];
+      // parameters alone in the best; a step the data fix is neither scanned nor fitted.
       const std::vector<double> initial = term->parameters ();
+      const std::vector<double> scales = own.where.empty () || own.where.front ().second != 0
+                                             ? std::vector<double>{1.0}
+                                             : std::vector<double>{0.1, 0.3, 1.0, 3.0};
       double best = std::numeric_limits<double>::infinity ();
       std::vector<double> best_values = initial;
       SettingCombination best_form;
       forEachSettingCombination (term->formSearch (), [&] (const SettingCombination &form) {
         for (const auto &kv : form)
           term->setSetting (kv.first, kv.second);
-        for (double f : {0.1, 0.3, 1.0, 3.0})
+        for (double f : scales)
         {
           std::vector<double> v = initial;
           v[0] *= f;

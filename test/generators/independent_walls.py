@@ -227,14 +227,18 @@ def main():
             white = ar1
         truth_mm = d_mm * scale + static_bias + offset_mm
         truth_mm = 1000 * fb / (1000 * fb / truth_mm + static_disparity_px)
-        if 'disparity_quantization' in effects and effects['disparity_quantization']['where'] == 'before':
+        where = effects.get('disparity_quantization', {}).get('where')
+        if where == 'before':
             truth_mm = lattice / np.maximum(1, np.round(lattice / truth_mm))
+        elif where == 'both':  # camera.yaml's lattice before the noise, the sensor's own after it
+            camera_lattice = 1000 * fb / step
+            truth_mm = camera_lattice / np.maximum(1, np.round(camera_lattice / truth_mm))
         if args.noise_in == 'depth':
             z_mm = truth_mm + sd * white
         else:
             fb_mm = 1000 * fb
             z_mm = fb_mm / (fb_mm / truth_mm + sd / j * white)
-        if 'disparity_quantization' in effects and effects['disparity_quantization']['where'] == 'after':
+        if where in ('after', 'both'):
             z_mm = lattice / np.maximum(1, np.round(lattice / z_mm))
         ok = valid.copy()
         if 'interference' in effects and args.projectors > 1:

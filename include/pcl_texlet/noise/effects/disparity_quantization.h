@@ -66,7 +66,10 @@ struct DisparityQuantization
   struct TermSettings
   {
     double lattice_phase = 0.0;  ///< the levels sit at (k + lattice_phase) step_px
-    int rounds_before_noise = 0; ///< 0: the noisy disparity is rounded; 1: the true one, the noise comes after
+    /** 0: the noisy disparity is rounded; 1: the true one, the noise comes after; 2: both, the
+      * true one on the first lattice (first_step_px), the noisy one on the term's. */
+    int rounds_before_noise = 0;
+    double first_step_px = 0.0; ///< form 2's first lattice's step (levels at k first_step_px); 0: the term's step_px
   };
 
   static std::vector<Field<TermSettings>>
@@ -76,27 +79,35 @@ struct DisparityQuantization
              ParameterRange::Any, &TermSettings::lattice_phase},
             {"rounds_before_noise", "1",
              "0: the noisy disparity is rounded (SD and mean swing with the phase); 1: the true disparity is "
-             "rounded and the noise added after (the mean is a staircase, the SD is the noise's)",
-             ParameterRange::NonNegative, &TermSettings::rounds_before_noise}};
+             "rounded and the noise added after (the mean is a staircase, the SD is the noise's); 2: both, the true "
+             "disparity on a first lattice (first_step_px) and the noisy one on the term's",
+             ParameterRange::NonNegative, &TermSettings::rounds_before_noise},
+            {"first_step_px", "px",
+             "rounds_before_noise 2's first lattice: the true disparity's levels sit at k first_step_px (camera.yaml's "
+             "step), the noisy one's on the term's own lattice; 0: the term's step",
+             ParameterRange::NonNegative, &TermSettings::first_step_px}};
   }
 
   /** \brief What is wrong with \a s, or "" when nothing. */
   static std::string
   settingsProblem (const TermSettings &s)
   {
-    return s.rounds_before_noise == 0 || s.rounds_before_noise == 1
+    return s.rounds_before_noise >= 0 && s.rounds_before_noise <= 2
                ? ""
-               : "rounds_before_noise must be 0 (the noisy disparity is rounded) or 1 (the true one), got " +
+               : "rounds_before_noise must be 0 (the noisy disparity is rounded), 1 (the true one) or 2 (both, on "
+                 "two lattices), got " +
                      std::to_string (s.rounds_before_noise);
   }
 
   /** \brief Where the rounding happens is for the data to say: a sensor rounds what it
-    * measured, but a pipeline (or a simulator) may round the true disparity and add noise after.
+    * measured, but a pipeline (or a simulator) may round the true disparity and add noise after,
+    * or do both on two lattices (a published Kinect simulator: camera.yaml's before its noise,
+    * the sensor's own depth table after it).
     */
   static std::vector<std::pair<std::string, std::vector<double>>>
   formSearch ()
   {
-    return {{"rounds_before_noise", {0, 1}}};
+    return {{"rounds_before_noise", {0, 1, 2}}};
   }
 
   /** \brief The lab starts from the lattice the recordings' depths sit on where it found one
@@ -106,10 +117,14 @@ struct DisparityQuantization
   static void
   labStart (const LabStart &facts, double *p, TermSettings &s)
   {
+    // Form 2's first lattice: camera.yaml's where the depths sit on one of their own; else the
+    // term's (one lattice, rounded before and after the noise).
+    s.first_step_px = 0.0;
     if (facts.lattice_step_px > 0)
     {
       p[0] = facts.lattice_step_px;
       s.lattice_phase = facts.lattice_phase;
+      s.first_step_px = facts.disparity_step_px > 0 ? facts.disparity_step_px : SimParameters ().step_px;
       return;
     }
     p[0] = facts.disparity_step_px > 0 ? facts.disparity_step_px : SimParameters ().step_px;
@@ -131,7 +146,7 @@ struct DisparityQuantization
     {
       // The phase of a measured (already quantised) depth says nothing: the phase average.
       // Rounded before the noise, a pixel's level is the same in every frame: a bias, no noise.
-      if (!s.rounds_before_noise)
+      if (s.rounds_before_noise != 1)
         variance_mm2 += J * J * step * step / 12.0;
       return;
     }
@@ -150,14 +165,25 @@ struct DisparityQuantization
   roundingMoments (const double *p, const TermSettings &s, double d0, double sigma, double &mean_offset,
                    double &variance)
   {
-    if (s.rounds_before_noise)
+    const double step = std::fabs (p[0]);
+    if (s.rounds_before_noise == 1)
     {
       // The true disparity's level: a fixed offset; the noise after it keeps its own variance.
-      moments (d0 - s.lattice_phase * std::fabs (p[0]), 0.0, std::fabs (p[0]), mean_offset, variance);
+      moments (d0 - s.lattice_phase * step, 0.0, step, mean_offset, variance);
       variance = sigma * sigma;
       return;
     }
-    moments (d0 - s.lattice_phase * std::fabs (p[0]), sigma, std::fabs (p[0]), mean_offset, variance);
+    if (s.rounds_before_noise == 2)
+    {
+      // The true disparity's level on the first lattice, then the noisy one rounded on the term's.
+      const double first = s.first_step_px > 0 ? s.first_step_px : step;
+      double level_offset = 0, unused = 0;
+      moments (d0, 0.0, first, level_offset, unused);
+      moments (d0 + level_offset - s.lattice_phase * step, sigma, step, mean_offset, variance);
+      mean_offset += level_offset;
+      return;
+    }
+    moments (d0 - s.lattice_phase * step, sigma, step, mean_offset, variance);
   }
 
   // --- the moments of a rounded Gaussian -----------------------------------------------------
