@@ -291,9 +291,13 @@ TEST_F (LabApp, ExtractorGivesTheModelTheRecordingsProjectorsAndFb)
     term->setParameters ({1.0});
     interference.add (*term);
   }
-  // Quantisation alone: phase-averaged variance J^2 step^2 / 12 with J = z^2 / (f b).
+  // Quantisation of a noise constant in disparity (axial_quadratic): the phase-averaged variance
+  // is J^2 times a function of the disparity's SD and step alone, J = z^2 / (f b).
   pcl::texlet::NoiseModel quantisation;
   {
+    auto axial = pcl::texlet::makeNoiseTerm ("axial_quadratic");
+    axial->setParameters ({0.06});
+    quantisation.add (*axial);
     auto term = pcl::texlet::makeNoiseTerm ("disparity_quantization");
     term->setParameters ({0.125});
     quantisation.add (*term);

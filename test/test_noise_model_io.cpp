@@ -84,6 +84,36 @@ TEST (EffectTerms, QuantisedMomentsMatchClosedForms)
 // The two ways of computing the moments: the levels' probabilities summed (exact by definition,
 // one erf per level) and the rounding error's Fourier series (three harmonics, used from half a
 // step of noise on), over the whole sub-step phase and from a quarter of a step to 12 steps of noise.
+// The frame-to-frame variance averaged over the phases (a measured depth's, a texlet's points'):
+// against the rounded moments' variance averaged over 4000 phases, on both sides of the switch
+// between the Poisson-summed form and the sum (a = 0.05: sigma = 0.0356 steps), and its limits:
+// sqrt(1 / pi) step sigma far below a step, Sheppard's sigma^2 + step^2 / 12 above one.
+TEST (EffectTerms, QuantisedVarianceOverPhasesIsThePhaseAverage)
+{
+  const double step = 0.125;
+  for (const double sigma_steps : {0.002, 0.01, 0.035, 0.0356, 0.036, 0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0})
+  {
+    const double sigma = sigma_steps * step;
+    double sum = 0;
+    const int phases = 4000;
+    for (int i = 0; i < phases; ++i)
+    {
+      double m = 0, v = 0;
+      Quantisation::moments (37.0 + step * ((i + 0.5) / phases - 0.5), sigma, step, m, v);
+      sum += v;
+    }
+    const double average = sum / phases, closed = Quantisation::varianceOverPhases (sigma, step);
+    EXPECT_NEAR (closed, average, 2e-4 * average) << sigma_steps << " steps";
+    if (sigma_steps <= 0.01)
+      EXPECT_NEAR (closed, step * sigma / std::sqrt (M_PI), 0.02 * closed);
+    if (sigma_steps >= 1.0)
+      EXPECT_NEAR (closed, sigma * sigma + step * step / 12.0, 1e-12);
+  }
+  const double at_switch = std::sqrt (0.05) / (2 * M_PI) * step; // 4 pi^2 sigma^2 / step^2 = 0.05
+  const double below = Quantisation::varianceOverPhases (at_switch * (1 - 1e-12), step);
+  EXPECT_NEAR (below, Quantisation::varianceOverPhases (at_switch * (1 + 1e-12), step), 1e-10 * below);
+}
+
 TEST (EffectTerms, QuantisedMomentsByHarmonicsEqualTheLevelsSummed)
 {
   const double step = 0.125;

@@ -40,14 +40,6 @@ recordedMoments (const NoiseModel &model, bool quantised, double variance_mm2, d
 double
 recordedVarianceOverPhases (const NoiseModel &model, bool quantised, double variance_mm2);
 
-/** Variance of a Gaussian of SD \a sigma rounded to multiples of \a step, averaged over a uniform
-  * phase of its mean within a step: sigma^2 + step^2 / 12 less the phase average of the squared
-  * mean offset (sum_k step^2 g_k^2 / (2 pi^2 k^2), g_k = exp (-2 pi^2 k^2 sigma^2 / step^2), the
-  * harmonics of disparity_quantization's rounding moments).
-  */
-double
-roundedVarianceOverPhases (double sigma, double step);
-
 } // namespace detail
 } // namespace lab
 } // namespace texlet
