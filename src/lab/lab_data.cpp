@@ -60,7 +60,8 @@ buildData (const std::vector<RecordingMeasurement::ConstPtr> &recs, Half half, b
   d->half = half;
   std::unordered_map<std::uint64_t, int> bin_of, qbin_of;
   // Phase bins on the lattice the quantisation term starts from (quantisation_lattice.h).
-  const QuantisationLattice lattice = quantisationLattice (recs);
+  d->lattice = quantisationLattice (recs);
+  const QuantisationLattice &lattice = d->lattice;
   const std::vector<double> distortion_nodes = distortion ? distortion->parameters () : std::vector<double> ();
   auto stepOf = [&] (const RecordingMeasurement &m) {
     return lattice.stepPx (m.fb (), m.camera.disparity_subpixel > 0 ? m.camera.disparity_subpixel

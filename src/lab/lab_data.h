@@ -7,6 +7,8 @@
  */
 #pragma once
 
+#include "quantisation_lattice.h"
+
 #include <pcl_texlet/lab/model_lab.h>
 #include <pcl_texlet/lab/recording_measurement.h>
 #include <pcl_texlet/noise/pixel_context.h>
@@ -102,6 +104,7 @@ struct ModelLab::Data
   std::vector<PixelContext> rep;             // per recording: the used pixel nearest the centre
   std::vector<std::vector<int>> frame_list;  // per recording: frames of the half
   std::vector<char> plane;                   // per recording: plane scene
+  detail::QuantisationLattice lattice;       // the recordings' disparity lattice, found once
   double samples = 0;
 };
 

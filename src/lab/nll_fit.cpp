@@ -46,17 +46,13 @@ onDataLattice (const NoiseTerm &term, double data_step_px)
          std::fabs (term.parameters ()[0] - data_step_px) <= 1e-9 * data_step_px;
 }
 
-/** The step of the lattice the recordings' depths show, 0 when they show camera.yaml's or none. */
+/** The step of the lattice \a lattice of the recordings' depths, 0 when they show camera.yaml's or none. */
 double
-dataLatticeStepPx (const NoiseModel &m, const std::vector<RecordingMeasurement::ConstPtr> &recs)
+dataLatticeStepPx (const QuantisationLattice &lattice, const std::vector<RecordingMeasurement::ConstPtr> &recs)
 {
-  bool rounds = false;
-  for (const auto &t : m.terms ())
-    rounds = rounds || t->quantises ();
-  if (!rounds || recs.empty ())
+  if (recs.empty () || lattice.constant_mm <= 0)
     return 0;
-  const QuantisationLattice lattice = quantisationLattice (recs);
-  return lattice.constant_mm > 0 ? lattice.stepPx (recs.front ()->fb (), recs.front ()->camera.disparity_subpixel) : 0;
+  return lattice.stepPx (recs.front ()->fb (), recs.front ()->camera.disparity_subpixel);
 }
 
 /** The parameters a fit changes: every term's but a linear bias term's and a rounding's on the
@@ -166,23 +162,20 @@ private:
 };
 
 /** Starting values for a term that was just added (its neutral values sit on a saddle): the
-  * term's own, some from the recordings.
+  * term's own, some from the recordings and the disparity lattice \a lattice their depths show.
   */
 void
-startValues (NoiseTerm &term, const std::vector<RecordingMeasurement::ConstPtr> &recs)
+startValues (NoiseTerm &term, const std::vector<RecordingMeasurement::ConstPtr> &recs,
+             const QuantisationLattice &lattice)
 {
   effects::LabStart facts;
   facts.image_width = recs.front ()->width;
   facts.image_height = recs.front ()->height;
   facts.disparity_step_px = recs.front ()->camera.disparity_subpixel;
-  if (term.quantises ())
+  if (term.quantises () && lattice.constant_mm > 0)
   {
-    const QuantisationLattice lattice = quantisationLattice (recs);
-    if (lattice.constant_mm > 0)
-    {
-      facts.lattice_step_px = lattice.stepPx (recs.front ()->fb (), facts.disparity_step_px);
-      facts.lattice_phase = lattice.phase;
-    }
+    facts.lattice_step_px = lattice.stepPx (recs.front ()->fb (), facts.disparity_step_px);
+    facts.lattice_phase = lattice.phase;
   }
   term.setLabStart (facts);
 }
@@ -215,11 +208,12 @@ ceresRun (NoiseModel &model, const ParameterMap &pm, const ModelLab::Data &d, co
 
 /** \a model with the effect \a name added at its starting values. */
 NoiseModel
-withTerm (const NoiseModel &model, const std::string &name, const std::vector<RecordingMeasurement::ConstPtr> &recs)
+withTerm (const NoiseModel &model, const std::string &name, const std::vector<RecordingMeasurement::ConstPtr> &recs,
+          const QuantisationLattice &lattice)
 {
   NoiseModel m (model);
   NoiseTerm::Ptr term = makeNoiseTerm (name);
-  startValues (*term, recs);
+  startValues (*term, recs, lattice);
   m.add (*term);
   return m;
 }
@@ -248,7 +242,7 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
        const LabSettings &settings, int new_term, double nested_objective)
 {
   NoiseModel model (start);
-  const double data_step_px = dataLatticeStepPx (model, recs);
+  const double data_step_px = dataLatticeStepPx (d.lattice, recs);
   const ParameterMap pm = parameterMap (model, -1, data_step_px);
   bool has_static = false; // a rounding or a linear bias term: the static fit changes with the rest
   for (const auto &t : model.terms ())
@@ -330,11 +324,11 @@ fitWithEffect (const NoiseModel &fitted, const NoiseModel &given, const std::str
   const int added = static_cast<int> (fitted.terms ().size ());
   const bool two_fits = effectInfo (name).quantises && given.terms ().size () == fitted.terms ().size ();
   if (fits == 1 && two_fits)
-    return fitOn (withTerm (given, name, recs), d, recs, settings, added, nested_objective);
-  NoiseModel m = fitOn (withTerm (fitted, name, recs), d, recs, settings, added, nested_objective);
+    return fitOn (withTerm (given, name, recs, d.lattice), d, recs, settings, added, nested_objective);
+  NoiseModel m = fitOn (withTerm (fitted, name, recs, d.lattice), d, recs, settings, added, nested_objective);
   if (fits >= 0 || !two_fits)
     return m;
-  NoiseModel alt = fitOn (withTerm (given, name, recs), d, recs, settings, added, nested_objective);
+  NoiseModel alt = fitOn (withTerm (given, name, recs, d.lattice), d, recs, settings, added, nested_objective);
   NoiseModel m_copy (m), alt_copy (alt);
   StaticState sm, sa;
   return fitObjective (alt_copy, d, recs, sa) < fitObjective (m_copy, d, recs, sm) ? alt : m;
