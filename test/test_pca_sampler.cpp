@@ -274,14 +274,13 @@ TEST (PcaSampler, FactorsReproduceTheModelCovariancesOfThePoints)
       mask[(k * 29) % patch.nb.count] = 1; // spread over the disc's rows: not collinear
     const MeasuredFit m (patch.nb, mask.data ());
     ASSERT_TRUE (m.ok) << "trial " << trial;
-    const Vec3<double> axes[3] = {m.fit.N, m.fit.e1, m.fit.e2};
-    const double P0b[3] = {dot (axes[0], m.fit.P), dot (axes[1], m.fit.P), dot (axes[2], m.fit.P)};
+    const PcaModelBasis<double> basis = pcaModelBasis (m.fit);
     PcaModelSums<double> sums;
     sums.reset ();
     for (int k = 0; k < patch.nb.count; ++k)
     {
       double q[3], a[3];
-      pcaModelPoint (patch.nb, mask.data (), k, m.fit.P, axes, P0b, q, a);
+      pcaModelPoint (patch.nb, mask.data (), k, basis, q, a);
       sums.add (q, a);
     }
     PcaSampleModel<double> md;

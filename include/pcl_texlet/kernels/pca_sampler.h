@@ -151,22 +151,6 @@ struct PcaSampleModel
   Vec3<S> n0, t1, t2;            ///< the reference normal and the tangent frame, in the basis
 };
 
-/** \brief Point \a k's q and a in the basis \a axes (N, e1, e2), zero for an outlier. */
-template <typename S> PCL_TEXLET_HD void
-pcaModelPoint (const Neighbourhood<S> &nb, const unsigned char *mask, int k, const Vec3<S> &P0, const Vec3<S> axes[3],
-               const S P0b[3], S q[3], S a[3])
-{
-  const S use = mask[k] ? S (1) : S (0);
-  const Vec3<S> d = nb.point (k) - P0;
-  const S f = use * nb.sigma[k] / nb.z[k];
-  for (int i = 0; i < 3; ++i)
-  {
-    const S qi = dot (axes[i], d);
-    q[i] = use * qi;
-    a[i] = f * (qi + P0b[i]);
-  }
-}
-
 /** \brief The measured fit's eigenbasis (N, e1, e2) and its centre P0 in that basis: the frame
   * in which the model's sums are taken.
   */
@@ -191,6 +175,32 @@ pcaModelBasis (const PlaneFit<S> &fit)
   return b;
 }
 
+/** \brief A point's q and a in the basis \a b (N, e1, e2), zero where \a use is 0, from its
+  * coordinates, depth SD \a sd and whether it is an inlier (\a use, 1 or 0). \a V is S or a SIMD
+  * lane type holding several points, one a lane: the same arithmetic either way.
+  */
+template <typename S, typename V> PCL_TEXLET_HD void
+pcaModelPointOf (const PcaModelBasis<S> &b, V px, V py, V pz, V sd, V use, V q[3], V a[3])
+{
+  const V dx = px - b.P0.x, dy = py - b.P0.y, dz = pz - b.P0.z;
+  const V f = use * sd / pz;
+  PCL_TEXLET_UNROLL_LOOP
+  for (int i = 0; i < 3; ++i)
+  {
+    const V qi = b.axes[i].x * dx + b.axes[i].y * dy + b.axes[i].z * dz;
+    q[i] = use * qi;
+    a[i] = f * (qi + b.P0b[i]);
+  }
+}
+
+/** \brief Point \a k's q and a in the basis \a b (pcaModelPointOf()), zero for an outlier. */
+template <typename S> PCL_TEXLET_HD void
+pcaModelPoint (const Neighbourhood<S> &nb, const unsigned char *mask, int k, const PcaModelBasis<S> &b, S q[3],
+               S a[3])
+{
+  pcaModelPointOf<S, S> (b, nb.x[k], nb.y[k], nb.z[k], nb.sigma[k], mask[k] ? S (1) : S (0), q, a);
+}
+
 /** \brief Adds points first, first + stride, ... of \a nb to \a sums (pcaModelPoint()).
   * \return how many of them are inliers
   */
@@ -202,7 +212,7 @@ addPcaModelPoints (const Neighbourhood<S> &nb, const unsigned char *mask, const 
   for (int k = first; k < nb.count; k += stride)
   {
     S q[3], a[3];
-    pcaModelPoint (nb, mask, k, b.P0, b.axes, b.P0b, q, a);
+    pcaModelPoint (nb, mask, k, b, q, a);
     sums.add (q, a);
     n += mask[k] ? 1 : 0;
   }
@@ -240,15 +250,8 @@ pcaModelSumsOf (const Neighbourhood<S> &nb, const unsigned char *mask, const Pca
     std::memcpy (&pz, bz, sizeof pz);
     std::memcpy (&sd, bs, sizeof sd);
     std::memcpy (&use, bu, sizeof use);
-    const Lane dx = px - b.P0.x, dy = py - b.P0.y, dz = pz - b.P0.z;
-    const Lane f = use * sd / pz;
     Lane q[3], a[3];
-    for (int i = 0; i < 3; ++i)
-    {
-      const Lane qi = b.axes[i].x * dx + b.axes[i].y * dy + b.axes[i].z * dz;
-      q[i] = use * qi;
-      a[i] = f * (qi + b.P0b[i]);
-    }
+    pcaModelPointOf (b, px, py, pz, sd, use, q, a);
     addPcaModelTerms (lanes, q, a);
     if (weights)
     {
@@ -266,7 +269,7 @@ pcaModelSumsOf (const Neighbourhood<S> &nb, const unsigned char *mask, const Pca
   for (int k = 0; k < nb.count; ++k)
   {
     S q[3], a[3];
-    pcaModelPoint (nb, mask, k, b.P0, b.axes, b.P0b, q, a);
+    pcaModelPoint (nb, mask, k, b, q, a);
     sums.add (q, a);
     if (weights)
       pcaModelWeights (q, a, weights[k]);
@@ -429,17 +432,15 @@ pcaLineSums (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaMod
   }
   for (int k = 0; k < nb.count; ++k)
   {
-    S q[3], a[3];
-    pcaModelPoint (nb, mask, k, b.P0, b.axes, b.P0b, q, a);
+    S q[3], a[3], wk[9];
+    pcaModelPoint (nb, mask, k, b, q, a);
+    pcaModelWeights (q, a, wk);
     S *w = out.w[nb.line (k) - columns.first], *A = out.A[nb.line (k) - columns.first];
-    for (int i = 0; i < 3; ++i)
-      w[i] += root * a[i];
+    for (int i = 0; i < 9; ++i)
+      w[i] += root * wk[i];
     for (int i = 0, m = 0; i < 3; ++i)
       for (int j = i; j < 3; ++j, ++m)
-      {
-        w[3 + m] += root * (q[i] * a[j] + a[i] * q[j]);
         A[m] += scale * a[i] * a[j];
-      }
   }
 }
 
