@@ -383,6 +383,9 @@ run (int argc, char **argv)
   app.add_option ("-n,--samples", o.params.samples, "Monte Carlo samples")->capture_default_str ();
   app.add_option ("--seed", o.params.seed, "random seed")->capture_default_str ();
   app.add_option ("--min-support", o.params.min_support, "fewest inliers for a texlet")->capture_default_str ();
+  app.add_flag ("--keep-model-bias{false}", o.params.remove_model_bias,
+                "fit the readings as they are (default: each depth loses the noise model's bias first, where a "
+                "term of the model moves the mean)");
   app.add_option ("--camera", o.intrinsics, "pinhole intrinsics fx fy cx cy, pixels (default: the recording's, "
                                             "or estimated from each PCD cloud)")
       ->expected (4);

@@ -160,6 +160,15 @@ NoiseModel::biasMm (const PixelContext &ctx) const
 }
 
 bool
+NoiseModel::movesMean () const
+{
+  for (const auto &t : terms_)
+    if (t->movesMean ())
+      return true;
+  return false;
+}
+
+bool
 NoiseModel::isPolynomialOnly (kernels::PolynomialCoefficients &c) const
 {
   // The exact type: a subclass may override variance ().

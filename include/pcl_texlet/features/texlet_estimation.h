@@ -150,6 +150,17 @@ public:
   int
   getMinSupport () const { return params_.min_support; }
 
+  /** \brief Whether each reading's depth loses the noise model's bias before the fit (default
+    * true): where a term moves the mean (a warm-up drift at the frame of setNoiseContext, a
+    * distortion map), its bias at the reading is taken off along the pixel's ray, so that P and
+    * N estimate the surface; false fits the readings as they are. A model of variance only (the
+    * paper's) leaves the readings as they are either way.
+    */
+  void
+  setRemoveModelBias (bool remove) { params_.remove_model_bias = remove; }
+  bool
+  getRemoveModelBias () const { return params_.remove_model_bias; }
+
   /** \brief Seed of the Philox streams (default 0). */
   void
   setSeed (std::uint32_t seed) { params_.seed = seed; }
@@ -235,6 +246,7 @@ private:
   texlet::CameraModel::ConstPtr camera_;
   unsigned int threads_ = 0;
   std::vector<double> sigma_image_; // per-pixel depth SD in metres, reused across frames
+  std::vector<double> depth_scale_image_; // per-pixel factor that takes the model's bias off a depth
   // Per-pixel distance from the principal point (the noise model's r), kept while the camera
   // object, the image size and the distances at five probe pixels stay the same.
   std::vector<double> radius_image_;

@@ -31,6 +31,7 @@ struct TexletParameters
   int samples = 50;                ///< Monte Carlo samples (2 .. 100000)
   std::uint32_t seed = 0;          ///< Philox key: results depend on (seed, texlet, draw) only
   int min_support = 6;             ///< fewest RANSAC inliers that make a texlet (>= 3)
+  bool remove_model_bias = true;   ///< take the noise model's bias off each reading's depth first
   float viewpoint[3] = {0.0f, 0.0f, 0.0f}; ///< normals face this point (pcl::TexletEstimation:
                                            ///< unless it uses the cloud's sensor origin)
 };

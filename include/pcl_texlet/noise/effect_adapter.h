@@ -351,6 +351,17 @@ public:
   bool
   quantises () const override { return detail::Has<Effect, detail::RoundingOp>::value; }
 
+  /** \brief Whether the effect's term can move the mean depth: a bias, a linear bias map, a
+    * transform of the moments or a rounding (NoiseTerm::movesMean ()).
+    */
+  static constexpr bool kMovesMean = detail::Has<Effect, detail::BiasOp>::value ||
+                                     detail::Has<Effect, detail::BiasBasisOp>::value ||
+                                     detail::Has<Effect, detail::TransformOp>::value ||
+                                     detail::Has<Effect, detail::RoundingOp>::value;
+
+  bool
+  movesMean () const override { return kMovesMean; }
+
   void
   roundingMoments (double d0_px, double sigma_px, double &mean_offset_px, double &variance_px2) const override
   {
@@ -615,8 +626,7 @@ EffectRegistry::add ()
   {
     e.info.has_term = true;
     e.info.quantises = detail::Has<Effect, detail::RoundingOp>::value;
-    e.info.moves_mean = detail::Has<Effect, detail::BiasOp>::value || detail::Has<Effect, detail::BiasBasisOp>::value ||
-                        detail::Has<Effect, detail::TransformOp>::value || detail::Has<Effect, detail::RoundingOp>::value;
+    e.info.moves_mean = EffectTermOf<Effect>::kMovesMean;
     e.term = [] () -> NoiseTerm::Ptr { return std::make_shared<EffectTermOf<Effect>> (); };
   }
   if constexpr (detail::Has<Effect, detail::LabNeedsOp>::value)

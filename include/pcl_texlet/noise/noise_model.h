@@ -182,6 +182,12 @@ public:
   virtual bool
   quantises () const { return false; }
 
+  /** \brief Whether the term can move the mean depth (a bias (), a linear bias map, a rounding):
+    * false for a term of variance only; a term that does not say is taken to move it.
+    */
+  virtual bool
+  movesMean () const { return true; }
+
   /** \brief Mean offset and variance (px) of a disparity N(\a d0_px, \a sigma_px^2) after the
     * term's rounding; no rounding by default.
     */
@@ -263,6 +269,9 @@ public:
   NoiseTerm::Ptr
   clone () const override { return std::make_shared<PolynomialSigmaTerm> (*this); }
 
+  bool
+  movesMean () const override { return false; }
+
   /** \brief The coefficients span many orders of magnitude: each is its own scale. */
   double
   typicalScale (std::size_t) const override { return 1e-12; }
@@ -309,6 +318,12 @@ public:
   /** \brief Sum of the terms' biases in mm at \a ctx (after transformMoments). */
   double
   biasMm (const PixelContext &ctx) const;
+
+  /** \brief Whether a term can move the mean depth (NoiseTerm::movesMean ()): where none does,
+    * biasMm () is 0 everywhere.
+    */
+  bool
+  movesMean () const;
 
   /** \brief Bias and variance parts at \a ctx: variance = (sum of scaled terms' variances) x
     * (product of factors) + (unscaled terms' variances), then transformMoments of each term;

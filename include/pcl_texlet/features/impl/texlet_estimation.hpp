@@ -64,9 +64,24 @@ depthSigmaMetres (const NoiseModel &noise, const CameraModel &camera, int u, int
   return noise.sigmaMm (pointContext (camera, u, v, z, intensity, base)) * 1e-3;
 }
 
+/** \brief The factor (z - b) / z that takes the noise model's bias b at a reading of depth z
+  * (metres) at pixel (u, v) off its depth, and off its point along its ray; 1 where b is not
+  * finite or the point would move behind the camera. Covariates as pointContext.
+  */
+inline double
+unbiasedDepthScale (const NoiseModel &noise, const CameraModel &camera, int u, int v, double z, const PixelContext &base,
+                    double intensity)
+{
+  const double z_mm = z * 1000.0;
+  const double s = (z_mm - noise.biasMm (pointContext (camera, u, v, z, intensity, base))) / z_mm;
+  return std::isfinite (s) && s > 0.0 ? s : 1.0;
+}
+
 /** \brief An organised cloud with its depth noise as a frame of the texlet stages
   * (kernels/texlet_stages.h): the per-pixel SD image when there is one, the noise model where
-  * not, and the rescale of a texlet's covariances to its own viewing angle.
+  * not, and the rescale of a texlet's covariances to its own viewing angle. Where the frame
+  * removes the model's bias, its points are the readings with the bias taken off their depths
+  * (unbiasedDepthScale), from the per-pixel image of factors when there is one.
   */
 template <typename PointInT>
 class CloudFrame : public CloudPoints<PointInT>
@@ -76,12 +91,16 @@ public:
     * \param context the noise model's covariates that a frame does not carry (frame index, f b,
     *        projectors), or null for the defaults
     * \param radius_px per-pixel distance from the principal point (the camera's), or null
+    * \param remove_bias take the model's bias off the readings (where a term moves the mean)
+    * \param depth_scale per-pixel unbiasedDepthScale, or null to evaluate it here
     * \param viewpoint the point the normals face (the viewing rays start there)
     */
   CloudFrame (const pcl::PointCloud<PointInT> &cloud, const CameraModel &camera, const NoiseModel &noise,
-              const double *sigma_m, const PixelContext *context, const double *radius_px, const float viewpoint[3])
+              const double *sigma_m, const PixelContext *context, const double *radius_px, bool remove_bias,
+              const double *depth_scale, const float viewpoint[3])
     : CloudPoints<PointInT> (cloud), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m), radius_px_ (radius_px),
-      context_ (context ? *context : PixelContext ()), viewpoint_ {viewpoint[0], viewpoint[1], viewpoint[2]}
+      depth_scale_ (depth_scale), context_ (context ? *context : PixelContext ()),
+      viewpoint_ {viewpoint[0], viewpoint[1], viewpoint[2]}, unbias_ (remove_bias && noise.movesMean ())
   {
     // The image's size sets the correlation lengths of offsets shared along its lines.
     context_.image_width_px = cloud.width;
@@ -94,6 +113,28 @@ public:
     const double sa = noise.sigmaMm (a), sb = noise.sigmaMm (b);
     angle_dependent_ = std::isfinite (sa) && std::isfinite (sb) && sa != sb;
     polynomial_only_ = noise.isPolynomialOnly (polynomial_);
+  }
+
+  /** Point of pixel (u, v): the reading, with the model's bias taken off where the frame removes it. */
+  PointInT
+  point (int u, int v) const { return point (static_cast<std::ptrdiff_t> (v) * this->width () + u); }
+
+  /** Point of pixel \a index, as point (u, v). */
+  PointInT
+  point (std::ptrdiff_t index) const
+  {
+    PointInT p = CloudPoints<PointInT>::point (index);
+    if (unbias_ && this->valid (p))
+    {
+      const int w = this->width ();
+      const double s = depth_scale_ ? depth_scale_[index]
+                                    : unbiasedDepthScale (noise_, camera_, static_cast<int> (index % w),
+                                                          static_cast<int> (index / w), p.z, context_, this->intensity (p));
+      p.x = static_cast<float> (p.x * s);
+      p.y = static_cast<float> (p.y * s);
+      p.z = static_cast<float> (p.z * s);
+    }
+    return p;
   }
 
   /** Depth SD in metres of the point at pixel \a index with depth z (metres), from the
@@ -180,8 +221,10 @@ private:
   const NoiseModel &noise_;
   const double *sigma_m_;
   const double *radius_px_; // per-pixel distance from the principal point, or null
+  const double *depth_scale_; // per-pixel unbiasedDepthScale, or null
   PixelContext context_;
   float viewpoint_[3];
+  bool unbias_;             // the readings' depths lose the model's bias
   bool angle_dependent_ = false;
   bool polynomial_only_ = false; // the noise model is the paper's polynomial alone
   kernels::PolynomialCoefficients polynomial_ = {};
@@ -205,11 +248,11 @@ template <typename PointInT>
 class TexletWorker
 {
 public:
-  /** \param sigma_m, context, radius_px, viewpoint as for CloudFrame */
+  /** \param sigma_m, context, radius_px, depth_scale, viewpoint as for CloudFrame */
   TexletWorker (const pcl::PointCloud<PointInT> &cloud, const TexletParameters &params, const CameraModel &camera,
                 const NoiseModel &noise, const double *sigma_m, const PixelContext *context,
-                const double *radius_px, const float viewpoint[3])
-    : frame_ (cloud, camera, noise, sigma_m, context, radius_px, viewpoint)
+                const double *radius_px, const double *depth_scale, const float viewpoint[3])
+    : frame_ (cloud, camera, noise, sigma_m, context, radius_px, params.remove_model_bias, depth_scale, viewpoint)
   {
     const int n = kernels::pixelDiscSize (params.radius);
     du_.resize (n);
@@ -279,7 +322,7 @@ computeTexlet (const pcl::PointCloud<PointInT> &cloud, pcl::index_t centre, cons
     msg << "pcl::computeTexlet: centre index " << centre << " is outside the cloud (" << cloud.size () << " points)";
     throw pcl::BadArgumentException (msg.str ());
   }
-  texlet::detail::TexletWorker<PointInT> worker (cloud, params, camera, noise, nullptr, nullptr, nullptr,
+  texlet::detail::TexletWorker<PointInT> worker (cloud, params, camera, noise, nullptr, nullptr, nullptr, nullptr,
                                                  params.viewpoint);
   return worker.compute (centre, texlet);
 }
@@ -486,10 +529,32 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
       std::copy (probe, probe + 5, radius_probe_);
     }
   }
+  // The model's bias (a warm-up drift, a distortion map) taken off each reading's depth along its
+  // ray, once per pixel: P and N then estimate the surface, not the biased readings.
+  const bool unbias = params_.remove_model_bias && noise_.movesMean ();
+  if (unbias)
+    depth_scale_image_.resize (cloud.size ());
+  texlet::PixelContext frame_context = noise_context_;
+  frame_context.image_width_px = w;
+  frame_context.image_height_px = h;
   const auto n = static_cast<std::ptrdiff_t> (indices_->size ());
   std::size_t made = 0;
 #pragma omp parallel num_threads(threads) reduction(+ : made)
   {
+    if (unbias)
+    {
+#pragma omp for schedule(static)
+      for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u)
+        {
+          const PointInT &p = cloud (u, v);
+          depth_scale_image_[static_cast<std::size_t> (v) * w + u] =
+              texlet::isValidDepthPoint (p)
+                  ? texlet::detail::unbiasedDepthScale (noise_, *camera, u, v, p.z, frame_context,
+                                                        texlet::detail::CloudPoints<PointInT>::intensity (p))
+                  : 1.0;
+        }
+    }
     if (fill_radius)
     {
 #pragma omp for schedule(static)
@@ -518,9 +583,11 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
         else
           for (int u = 0; u < w; ++u)
           {
+            // At the depth the texlet stages read: less the model's bias where it is removed.
             const PointInT &p = cloud (u, v);
+            const double z = unbias ? p.z * depth_scale_image_[static_cast<std::size_t> (v) * w + u] : p.z;
             row[u] = texlet::isValidDepthPoint (p)
-                         ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z, noise_context_,
+                         ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, z, noise_context_,
                                                              texlet::detail::CloudPoints<PointInT>::intensity (p))
                          : std::numeric_limits<double>::quiet_NaN ();
           }
@@ -529,7 +596,7 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
     texlet::detail::TexletWorker<PointInT> worker (cloud, params_, *camera, noise_,
                                                    need_sigma ? sigma_image_.data () : nullptr, &noise_context_,
                                                    polynomial_only && need_sigma ? radius_image_.data () : nullptr,
-                                                   viewpoint);
+                                                   unbias ? depth_scale_image_.data () : nullptr, viewpoint);
 #pragma omp for schedule(dynamic, 64)
     for (std::ptrdiff_t i = 0; i < n; ++i)
       made += worker.compute ((*indices_)[i], output[i]) ? 1 : 0;
