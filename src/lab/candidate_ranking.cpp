@@ -256,12 +256,11 @@ ModelLab::rankCandidates (const NoiseModel &current) const
         c.metrics.texlets = texlets (c.model, Half::score);
         c.texlet_error_before = before;
         c.texlet_error_after = c.metrics.texlets.logRatioError ();
-        // A term of variance that makes the covariances users consume less honest is not one to
-        // add, whatever the pixels gain (NaN, nothing compared, vetoes nothing). A term that moves
-        // the mean is exempt: texlets do not take the model's bias off their depths, so turning
-        // spread into a modelled bias (drift, a rounding staircase) takes variance out of their
-        // covariances while their P still moves (docs/model_lab.md section 4).
-        if (c.significant && !effectInfo (c.effect).moves_mean &&
+        // A term that makes the covariances users consume less honest is not one to add, whatever
+        // the pixels gain (NaN, nothing compared, vetoes nothing). The texlets take the model's
+        // bias off their readings, but not a rounding's: at a reading its phase is unknown, so its
+        // staircase stays in P and a rounding is exempt (docs/model_lab.md section 4).
+        if (c.significant && !effectInfo (c.effect).quantises &&
             c.texlet_error_after > c.texlet_error_before + settings_.max_texlet_worsening)
         {
           c.significant = false;

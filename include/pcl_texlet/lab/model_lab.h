@@ -127,9 +127,8 @@ struct Candidate
     */
   double texlet_error_before = std::numeric_limits<double>::quiet_NaN ();
   double texlet_error_after = std::numeric_limits<double>::quiet_NaN (); ///< see texlet_error_before
-  /** \brief Passed both tests, but it is a term of variance only and its texlets are further from
-    * honest than the current model's by more than LabSettings::max_texlet_worsening, so not
-    * significant. */
+  /** \brief Passed both tests, but its texlets are further from honest than the current model's
+    * by more than LabSettings::max_texlet_worsening, so not significant. */
   bool texlets_less_honest = false;
   bool applicable = true;   ///< false when the data cannot show it (reason in note)
   std::string note;         ///< why not applicable, or remarks
@@ -160,12 +159,12 @@ struct LabSettings
     * section 4).
     */
   double min_effect_size = 0.05;
-  /** \brief Significance also needs a candidate of variance only not to make the texlets'
-    * covariances less honest: on the score half's frames its texlets' distance from honest
+  /** \brief Significance also needs a candidate not to make the texlets' covariances less
+    * honest: on the score half's frames its texlets' distance from honest
     * (Candidate::texlet_error_after, the larger |ln| of the median NEES ratios of P and N) may
-    * exceed the current model's by at most this; ln 1.25: 25 % further from honest. Terms that
-    * move the mean are exempt (texlets do not take the model's bias off; docs/model_lab.md
-    * section 4).
+    * exceed the current model's by at most this; ln 1.25: 25 % further from honest. A rounding
+    * is exempt (the texlets take the model's bias off their readings, but a rounding's phase at a
+    * reading is unknown; docs/model_lab.md section 4).
     */
   double max_texlet_worsening = 0.22314355131420976;
   int outer_iterations = 3;      ///< alternations of the linear (bias) and Ceres (variance) fits
