@@ -99,6 +99,42 @@ TEST_F (ExtractApp, RecordingFolderWritesOneFilePerFrame)
   EXPECT_NE (r.err.find ("frame 3/3"), std::string::npos) << r.err; // progress lines
 }
 
+TEST_F (ExtractApp, TheModelsBiasComesOffUnlessKept)
+{
+  // A model with a warm-up drift (0.5 px of disparity at frame 0): by default each depth loses
+  // the drift's bias before the fit, so P moves against the readings' texlets (which
+  // --keep-model-bias gives) by the bias, millimetres at 1 m; the normals stay.
+  const fs::path rec = makeRecording (1);
+  const fs::path model = dir_ / "drift.yaml";
+  std::ofstream (model) << "min_sigma_mm: 0.1\n"
+                           "terms:\n"
+                           "  - name: polynomial\n"
+                           "    parameters: {p00: 2.344, p10: -1.202e-2, p01: -2.734e-3, p20: 1.818e-5, p11: 6.516e-6, "
+                           "p02: 1.233e-6}\n"
+                           "  - name: temporal_drift\n"
+                           "    parameters: {amplitude_px: 0.5, time_constant_frames: 100, scale: 0}\n";
+  const std::string args = " --quiet --uncertainty analytic --spacing 8 --noise-model " + model.string ();
+  ASSERT_EQ (run (rec.string () + " " + (dir_ / "removed").string () + args).code, 0);
+  const Result r = run (rec.string () + " " + (dir_ / "kept").string () + args + " --keep-model-bias");
+  ASSERT_EQ (r.code, 0) << r.err;
+  pcl::PointCloud<pcl::Texlet> removed, kept;
+  ASSERT_EQ (pcl::io::loadPCDFile ((dir_ / "removed" / "000000.pcd").string (), removed), 0);
+  ASSERT_EQ (pcl::io::loadPCDFile ((dir_ / "kept" / "000000.pcd").string (), kept), 0);
+  ASSERT_EQ (removed.size (), kept.size ());
+  int compared = 0;
+  for (std::size_t i = 0; i < kept.size (); ++i)
+    if (std::isfinite (kept[i].x) && std::isfinite (removed[i].x))
+    {
+      ++compared;
+      EXPECT_GT (std::fabs (removed[i].z - kept[i].z), 1e-3f) << i; // metres
+      EXPECT_GT (removed[i].normal_x * kept[i].normal_x + removed[i].normal_y * kept[i].normal_y +
+                     removed[i].normal_z * kept[i].normal_z,
+                 0.9999f)
+          << i;
+    }
+  EXPECT_GT (compared, 10);
+}
+
 TEST_F (ExtractApp, GrabberTiffFolderWritesOneFilePerFrame)
 {
   const fs::path out = dir_ / "out";
