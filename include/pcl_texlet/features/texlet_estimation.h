@@ -246,7 +246,7 @@ private:
   texlet::CameraModel::ConstPtr camera_;
   unsigned int threads_ = 0;
   std::vector<double> sigma_image_; // per-pixel depth SD in metres, reused across frames
-  std::vector<double> depth_scale_image_; // per-pixel factor that takes the model's bias off a depth
+  pcl::PointCloud<PointInT> unbiased_cloud_; // the input less the model's bias, where it has one
   // Per-pixel distance from the principal point (the noise model's r), kept while the camera
   // object, the image size and the distances at five probe pixels stay the same.
   std::vector<double> radius_image_;

@@ -77,11 +77,29 @@ unbiasedDepthScale (const NoiseModel &noise, const CameraModel &camera, int u, i
   return std::isfinite (s) && s > 0.0 ? s : 1.0;
 }
 
+/** \brief Row \a v, columns [\a u0, \a u1), of \a out (a copy of \a cloud): each valid reading with
+  * the noise model's bias taken off (unbiasedDepthScale).
+  */
+template <typename PointInT> void
+unbiasReadings (const pcl::PointCloud<PointInT> &cloud, const CameraModel &camera, const NoiseModel &noise,
+                const PixelContext &base, int v, int u0, int u1, pcl::PointCloud<PointInT> &out)
+{
+  for (int u = u0; u < u1; ++u)
+  {
+    const PointInT &p = cloud (u, v);
+    if (!isValidDepthPoint (p))
+      continue;
+    const double s = unbiasedDepthScale (noise, camera, u, v, p.z, base, CloudPoints<PointInT>::intensity (p));
+    PointInT &q = out (u, v);
+    q.x = static_cast<float> (p.x * s);
+    q.y = static_cast<float> (p.y * s);
+    q.z = static_cast<float> (p.z * s);
+  }
+}
+
 /** \brief An organised cloud with its depth noise as a frame of the texlet stages
   * (kernels/texlet_stages.h): the per-pixel SD image when there is one, the noise model where
-  * not, and the rescale of a texlet's covariances to its own viewing angle. Where the frame
-  * removes the model's bias, its points are the readings with the bias taken off their depths
-  * (unbiasedDepthScale), from the per-pixel image of factors when there is one.
+  * not, and the rescale of a texlet's covariances to its own viewing angle.
   */
 template <typename PointInT>
 class CloudFrame : public CloudPoints<PointInT>
@@ -91,16 +109,12 @@ public:
     * \param context the noise model's covariates that a frame does not carry (frame index, f b,
     *        projectors), or null for the defaults
     * \param radius_px per-pixel distance from the principal point (the camera's), or null
-    * \param remove_bias take the model's bias off the readings (where a term moves the mean)
-    * \param depth_scale per-pixel unbiasedDepthScale, or null to evaluate it here
     * \param viewpoint the point the normals face (the viewing rays start there)
     */
   CloudFrame (const pcl::PointCloud<PointInT> &cloud, const CameraModel &camera, const NoiseModel &noise,
-              const double *sigma_m, const PixelContext *context, const double *radius_px, bool remove_bias,
-              const double *depth_scale, const float viewpoint[3])
+              const double *sigma_m, const PixelContext *context, const double *radius_px, const float viewpoint[3])
     : CloudPoints<PointInT> (cloud), camera_ (camera), noise_ (noise), sigma_m_ (sigma_m), radius_px_ (radius_px),
-      depth_scale_ (depth_scale), context_ (context ? *context : PixelContext ()),
-      viewpoint_ {viewpoint[0], viewpoint[1], viewpoint[2]}, unbias_ (remove_bias && noise.movesMean ())
+      context_ (context ? *context : PixelContext ()), viewpoint_ {viewpoint[0], viewpoint[1], viewpoint[2]}
   {
     // The image's size sets the correlation lengths of offsets shared along its lines.
     context_.image_width_px = cloud.width;
@@ -113,28 +127,6 @@ public:
     const double sa = noise.sigmaMm (a), sb = noise.sigmaMm (b);
     angle_dependent_ = std::isfinite (sa) && std::isfinite (sb) && sa != sb;
     polynomial_only_ = noise.isPolynomialOnly (polynomial_);
-  }
-
-  /** Point of pixel (u, v): the reading, with the model's bias taken off where the frame removes it. */
-  PointInT
-  point (int u, int v) const { return point (static_cast<std::ptrdiff_t> (v) * this->width () + u); }
-
-  /** Point of pixel \a index, as point (u, v). */
-  PointInT
-  point (std::ptrdiff_t index) const
-  {
-    PointInT p = CloudPoints<PointInT>::point (index);
-    if (unbias_ && this->valid (p))
-    {
-      const int w = this->width ();
-      const double s = depth_scale_ ? depth_scale_[index]
-                                    : unbiasedDepthScale (noise_, camera_, static_cast<int> (index % w),
-                                                          static_cast<int> (index / w), p.z, context_, this->intensity (p));
-      p.x = static_cast<float> (p.x * s);
-      p.y = static_cast<float> (p.y * s);
-      p.z = static_cast<float> (p.z * s);
-    }
-    return p;
   }
 
   /** Depth SD in metres of the point at pixel \a index with depth z (metres), from the
@@ -221,10 +213,8 @@ private:
   const NoiseModel &noise_;
   const double *sigma_m_;
   const double *radius_px_; // per-pixel distance from the principal point, or null
-  const double *depth_scale_; // per-pixel unbiasedDepthScale, or null
   PixelContext context_;
   float viewpoint_[3];
-  bool unbias_;             // the readings' depths lose the model's bias
   bool angle_dependent_ = false;
   bool polynomial_only_ = false; // the noise model is the paper's polynomial alone
   kernels::PolynomialCoefficients polynomial_ = {};
@@ -248,11 +238,11 @@ template <typename PointInT>
 class TexletWorker
 {
 public:
-  /** \param sigma_m, context, radius_px, depth_scale, viewpoint as for CloudFrame */
+  /** \param sigma_m, context, radius_px, viewpoint as for CloudFrame */
   TexletWorker (const pcl::PointCloud<PointInT> &cloud, const TexletParameters &params, const CameraModel &camera,
                 const NoiseModel &noise, const double *sigma_m, const PixelContext *context,
-                const double *radius_px, const double *depth_scale, const float viewpoint[3])
-    : frame_ (cloud, camera, noise, sigma_m, context, radius_px, params.remove_model_bias, depth_scale, viewpoint)
+                const double *radius_px, const float viewpoint[3])
+    : frame_ (cloud, camera, noise, sigma_m, context, radius_px, viewpoint)
   {
     const int n = kernels::pixelDiscSize (params.radius);
     du_.resize (n);
@@ -322,8 +312,24 @@ computeTexlet (const pcl::PointCloud<PointInT> &cloud, pcl::index_t centre, cons
     msg << "pcl::computeTexlet: centre index " << centre << " is outside the cloud (" << cloud.size () << " points)";
     throw pcl::BadArgumentException (msg.str ());
   }
-  texlet::detail::TexletWorker<PointInT> worker (cloud, params, camera, noise, nullptr, nullptr, nullptr, nullptr,
-                                                 params.viewpoint);
+  // The model's bias off the readings a texlet reads: its disc, its ring and its centre ray's
+  // neighbours (up to 3 pixels beyond the disc), in a copy of the cloud.
+  pcl::PointCloud<PointInT> unbiased;
+  const bool unbias = params.remove_model_bias && noise.movesMean ();
+  if (unbias)
+  {
+    unbiased = cloud;
+    texlet::PixelContext base;
+    base.image_width_px = cloud.width;
+    base.image_height_px = cloud.height;
+    const int w = static_cast<int> (cloud.width), h = static_cast<int> (cloud.height), reach = params.radius + 3;
+    const int cu = static_cast<int> (centre % w), cv = static_cast<int> (centre / w);
+    for (int v = std::max (0, cv - reach); v <= std::min (h - 1, cv + reach); ++v)
+      texlet::detail::unbiasReadings (cloud, camera, noise, base, v, std::max (0, cu - reach),
+                                      std::min (w, cu + reach + 1), unbiased);
+  }
+  texlet::detail::TexletWorker<PointInT> worker (unbias ? unbiased : cloud, params, camera, noise, nullptr, nullptr,
+                                                 nullptr, params.viewpoint);
   return worker.compute (centre, texlet);
 }
 
@@ -464,8 +470,8 @@ TexletEstimation<PointInT, PointOutT>::initCompute ()
 template <typename PointInT, typename PointOutT> void
 TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
 {
-  const pcl::PointCloud<PointInT> &cloud = *input_;
-  const int w = static_cast<int> (cloud.width), h = static_cast<int> (cloud.height);
+  const pcl::PointCloud<PointInT> &input = *input_;
+  const int w = static_cast<int> (input.width), h = static_cast<int> (input.height);
 #ifdef _OPENMP
   const int threads = threads_ == 0 ? omp_get_num_procs () : static_cast<int> (threads_);
 #endif
@@ -473,8 +479,8 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
   // Is there a valid point at all? The first one ends the search (a real frame has one in
   // its first rows), so this costs next to nothing.
   bool any_valid = false;
-  for (std::size_t i = 0; i < cloud.size () && !any_valid; ++i)
-    any_valid = texlet::isValidDepthPoint (cloud[i]);
+  for (std::size_t i = 0; i < input.size () && !any_valid; ++i)
+    any_valid = texlet::isValidDepthPoint (input[i]);
   if (!any_valid)
     throw pcl::ComputeFailedException ("pcl::TexletEstimation: the input cloud has no valid point (all depth is "
                                        "invalid: NaN, infinite or not in front of the camera)");
@@ -491,13 +497,13 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
 
   texlet::CameraModel::ConstPtr camera = camera_;
   if (!camera)
-    camera = std::make_shared<texlet::PinholeModel> (texlet::estimatePinholeModel (cloud));
+    camera = std::make_shared<texlet::PinholeModel> (texlet::estimatePinholeModel (input));
 
   // Per-pixel depth SD, once per frame (pixels are shared by the overlapping discs), in the
   // same parallel region as the texlets: one fork and join per frame.
   const bool need_sigma = params_.uncertainty != texlet::UncertaintyMethod::None;
   if (need_sigma)
-    sigma_image_.resize (cloud.size ());
+    sigma_image_.resize (input.size ());
   texlet::kernels::PolynomialCoefficients polynomial = {};
   const bool polynomial_only = noise_.isPolynomialOnly (polynomial);
   const double min_sigma_mm = noise_.minSigmaMm ();
@@ -518,14 +524,14 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
                              (pinhole && kept && typeid (*pinhole) == typeid (texlet::PinholeModel) &&
                               typeid (*kept) == typeid (texlet::PinholeModel) && pinhole->cx () == kept->cx () &&
                               pinhole->cy () == kept->cy ());
-    fill_radius = !same_camera || radius_width_ != cloud.width || radius_height_ != cloud.height ||
+    fill_radius = !same_camera || radius_width_ != input.width || radius_height_ != input.height ||
                   !std::equal (probe, probe + 5, radius_probe_);
     if (fill_radius)
     {
-      radius_image_.resize (cloud.size ());
+      radius_image_.resize (input.size ());
       radius_camera_ = camera;
-      radius_width_ = cloud.width;
-      radius_height_ = cloud.height;
+      radius_width_ = input.width;
+      radius_height_ = input.height;
       std::copy (probe, probe + 5, radius_probe_);
     }
   }
@@ -533,7 +539,8 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
   // ray, once per pixel: P and N then estimate the surface, not the biased readings.
   const bool unbias = params_.remove_model_bias && noise_.movesMean ();
   if (unbias)
-    depth_scale_image_.resize (cloud.size ());
+    unbiased_cloud_ = input;
+  const pcl::PointCloud<PointInT> &cloud = unbias ? unbiased_cloud_ : input;
   texlet::PixelContext frame_context = noise_context_;
   frame_context.image_width_px = w;
   frame_context.image_height_px = h;
@@ -545,15 +552,7 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
     {
 #pragma omp for schedule(static)
       for (int v = 0; v < h; ++v)
-        for (int u = 0; u < w; ++u)
-        {
-          const PointInT &p = cloud (u, v);
-          depth_scale_image_[static_cast<std::size_t> (v) * w + u] =
-              texlet::isValidDepthPoint (p)
-                  ? texlet::detail::unbiasedDepthScale (noise_, *camera, u, v, p.z, frame_context,
-                                                        texlet::detail::CloudPoints<PointInT>::intensity (p))
-                  : 1.0;
-        }
+        texlet::detail::unbiasReadings (input, *camera, noise_, frame_context, v, 0, w, unbiased_cloud_);
     }
     if (fill_radius)
     {
@@ -583,11 +582,9 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
         else
           for (int u = 0; u < w; ++u)
           {
-            // At the depth the texlet stages read: less the model's bias where it is removed.
             const PointInT &p = cloud (u, v);
-            const double z = unbias ? p.z * depth_scale_image_[static_cast<std::size_t> (v) * w + u] : p.z;
             row[u] = texlet::isValidDepthPoint (p)
-                         ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, z, noise_context_,
+                         ? texlet::detail::depthSigmaMetres (noise_, *camera, u, v, p.z, noise_context_,
                                                              texlet::detail::CloudPoints<PointInT>::intensity (p))
                          : std::numeric_limits<double>::quiet_NaN ();
           }
@@ -596,7 +593,7 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
     texlet::detail::TexletWorker<PointInT> worker (cloud, params_, *camera, noise_,
                                                    need_sigma ? sigma_image_.data () : nullptr, &noise_context_,
                                                    polynomial_only && need_sigma ? radius_image_.data () : nullptr,
-                                                   unbias ? depth_scale_image_.data () : nullptr, viewpoint);
+                                                   viewpoint);
 #pragma omp for schedule(dynamic, 64)
     for (std::ptrdiff_t i = 0; i < n; ++i)
       made += worker.compute ((*indices_)[i], output[i]) ? 1 : 0;
