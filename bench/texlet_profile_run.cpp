@@ -8,10 +8,13 @@
  *   texlet_profile_run mc 2 --compare before.pcd       (largest differences per field)
  *   texlet_profile_run mc 1 --frames 3                 (3 extractions of the frame with one
  *                                                       estimator: what is kept across frames)
+ *   texlet_profile_run analytic 1 --noise-model M.yaml (the texlets' noise model from a YAML
+ *                                                       file, e.g. one with spatial_correlation)
  *
  * method: none | analytic | mc. Exit code 2 and one line on stderr for bad arguments or files.
  */
 #include <pcl_texlet/features/texlet_estimation.h>
+#include <pcl_texlet/io/noise_model_io.h>
 
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
@@ -86,11 +89,35 @@ int
 run (int argc, char **argv)
 {
   if (argc < 3)
-    throw std::invalid_argument ("usage: texlet_profile_run none|analytic|mc THREADS [--save F.pcd | --compare F.pcd | --frames N]");
+    throw std::invalid_argument ("usage: texlet_profile_run none|analytic|mc THREADS [--save F.pcd | --compare F.pcd] "
+                                 "[--frames N] [--noise-model M.yaml]");
   const auto method = parseMethod (argv[1]);
   const int threads = std::atoi (argv[2]);
   if (threads < 1)
     throw std::invalid_argument (std::string ("threads '") + argv[2] + "' is not a positive number");
+  std::string save, reference, noise_model;
+  int frames = 1;
+  for (int i = 3; i < argc; i += 2)
+  {
+    const std::string option = argv[i];
+    if (i + 1 >= argc)
+      throw std::invalid_argument ("option '" + option + "' needs a value");
+    const std::string value = argv[i + 1];
+    if (option == "--save")
+      save = value;
+    else if (option == "--compare")
+      reference = value;
+    else if (option == "--noise-model")
+      noise_model = value;
+    else if (option == "--frames")
+    {
+      frames = std::atoi (value.c_str ());
+      if (frames < 1)
+        throw std::invalid_argument ("frames '" + value + "' is not a positive number");
+    }
+    else
+      throw std::invalid_argument ("unknown option '" + option + "'");
+  }
   auto cloud = std::make_shared<Cloud> ();
   const std::string path = std::string (DATA_DIR) + "/kinect/milk_cartoon_all_small_clorox.pcd";
   if (pcl::io::loadPCDFile (path, *cloud) != 0)
@@ -104,33 +131,22 @@ run (int argc, char **argv)
   est.setUncertaintyMethod (method);
   est.setMonteCarloSamples (50);
   est.setNumberOfThreads (static_cast<unsigned> (threads));
-  int frames = 1;
-  if (argc >= 5 && std::strcmp (argv[3], "--frames") == 0)
-  {
-    frames = std::atoi (argv[4]);
-    if (frames < 1)
-      throw std::invalid_argument (std::string ("frames '") + argv[4] + "' is not a positive number");
-    argc = 3;
-  }
+  if (!noise_model.empty ())
+    est.setNoiseModel (pcl::texlet::loadNoiseModelYaml (noise_model));
   pcl::PointCloud<pcl::Texlet> out;
   for (int f = 0; f < frames; ++f)
     est.compute (out);
   std::printf ("%zu texlets\n", out.size ());
 
-  if (argc >= 5 && std::strcmp (argv[3], "--save") == 0)
-  {
-    if (pcl::io::savePCDFileBinary (argv[4], out) != 0)
-      throw std::invalid_argument (std::string ("cannot write ") + argv[4]);
-  }
-  else if (argc >= 5 && std::strcmp (argv[3], "--compare") == 0)
+  if (!save.empty () && pcl::io::savePCDFileBinary (save, out) != 0)
+    throw std::invalid_argument ("cannot write " + save);
+  if (!reference.empty ())
   {
     pcl::PointCloud<pcl::Texlet> ref;
-    if (pcl::io::loadPCDFile (argv[4], ref) != 0)
-      throw std::invalid_argument (std::string ("cannot read ") + argv[4]);
+    if (pcl::io::loadPCDFile (reference, ref) != 0)
+      throw std::invalid_argument ("cannot read " + reference);
     compare (out, ref);
   }
-  else if (argc > 3)
-    throw std::invalid_argument (std::string ("unknown option '") + argv[3] + "'");
   return 0;
 }
 
