@@ -125,22 +125,28 @@ struct WindowBox
 };
 
 /** \brief Whether the window-shared noise of \a nb is resolved (it has some, and the points'
-  * bounding box fits kMaxSharedLines x kMaxSharedLines); the box's corner and size.
+  * bounding box fits kMaxSharedLines x kMaxSharedLines); the box's corner and size. Where \a u
+  * and \a v are given (and the disc has such noise), the points' pixels go there too.
   */
 template <typename S> PCL_TEXLET_HD WindowBox
-windowBox (const Neighbourhood<S> &nb)
+windowBox (const Neighbourhood<S> &nb, int *u = nullptr, int *v = nullptr)
 {
   WindowBox box;
   if (!(nb.window_fraction > S (0)) || !nb.pixel || nb.width <= 0 || nb.count == 0)
     return box;
-  int ulo = nb.pixel[0] % nb.width, uhi = ulo, vlo = nb.pixel[0] / nb.width, vhi = vlo;
-  for (int k = 1; k < nb.count; ++k)
+  int ulo = nb.width, uhi = -1, vlo = nb.pixel[0] / nb.width, vhi = vlo;
+  for (int k = 0; k < nb.count; ++k)
   {
-    const int u = nb.pixel[k] % nb.width, v = nb.pixel[k] / nb.width;
-    ulo = u < ulo ? u : ulo;
-    uhi = u > uhi ? u : uhi;
-    vlo = v < vlo ? v : vlo;
-    vhi = v > vhi ? v : vhi;
+    const int y = nb.pixel[k] / nb.width, x = nb.pixel[k] - y * nb.width;
+    if (u)
+    {
+      u[k] = x;
+      v[k] = y;
+    }
+    ulo = x < ulo ? x : ulo;
+    uhi = x > uhi ? x : uhi;
+    vlo = y < vlo ? y : vlo;
+    vhi = y > vhi ? y : vhi;
   }
   box.u0 = ulo;
   box.v0 = vlo;
@@ -204,18 +210,43 @@ windowInflation (const Neighbourhood<S> &nb)
   return S (nb.window_px) * S (nb.window_px);
 }
 
-/** \brief Adds h h' (\a dims values, upper triangle packed by rows) to \a sum; \a V is the
-  * scalar or a SIMD lane type (several outer products at once, one a lane).
+/** \brief Four values of S side by side, with the operations windowForm() takes on them: its
+  * SIMD lane type where GNU vector types are not available (nvcc).
   */
-template <int dims, typename V> PCL_TEXLET_HD void
-addOuterProduct (const V *h, V *sum)
+template <typename S>
+struct FourLanes
 {
-  PCL_TEXLET_UNROLL_LOOP
-  for (int a = 0, k = 0; a < dims; ++a)
-    PCL_TEXLET_UNROLL_LOOP
-    for (int b = a; b < dims; ++b, ++k)
-      sum[k] += h[a] * h[b];
-}
+  S v[4];
+
+  PCL_TEXLET_HD S &operator[] (int i) { return v[i]; }
+  PCL_TEXLET_HD S operator[] (int i) const { return v[i]; }
+
+  PCL_TEXLET_HD FourLanes &
+  operator+= (const FourLanes &o)
+  {
+    for (int i = 0; i < 4; ++i)
+      v[i] += o.v[i];
+    return *this;
+  }
+
+  PCL_TEXLET_HD FourLanes
+  operator- (const FourLanes &o) const
+  {
+    FourLanes r;
+    for (int i = 0; i < 4; ++i)
+      r.v[i] = v[i] - o.v[i];
+    return r;
+  }
+
+  PCL_TEXLET_HD friend FourLanes
+  operator* (S s, const FourLanes &o)
+  {
+    FourLanes r;
+    for (int i = 0; i < 4; ++i)
+      r.v[i] = s * o.v[i];
+    return r;
+  }
+};
 
 /** \brief The quadratic form sum_i sum_j tri(u_i - u_j) tri(v_i - v_j) G_i G_j' of the points'
   * \a G (\a D values each: the analytic propagation's 6 SD-weighted Jacobians, the moment
@@ -225,7 +256,9 @@ addOuterProduct (const V *h, V *sum)
   * over w^2, the form is (1 / w^2) sum over the windows c touching the box of H_c H_c', H_c the
   * sum of G over window c: sliding sums along the rows, then the columns. Only the block of
   * values \a lo .. \a hi - 1 is formed (the rest of \a out is 0): a texlet's analytic
-  * propagation needs 3 of the 6 when P is on the centre ray.
+  * propagation needs 3 of the 6 when P is on the centre ray. A window's values travel
+  * together, four to a SIMD lane, so that each sliding step and each row of H_c H_c' is a
+  * few vector operations (docs/benchmarks.md).
   */
 template <typename S, int D, int lo = 0, int hi = D> PCL_TEXLET_HD void
 windowForm (const S (*G)[D], const int *u, const int *v, int count, int u0, int v0, int nu, int nv, int w,
@@ -233,78 +266,58 @@ windowForm (const S (*G)[D], const int *u, const int *v, int count, int u0, int 
 {
   for (int k = 0; k < D * (D + 1) / 2; ++k)
     out[k] = S (0);
-  constexpr int dims = hi - lo;
-  S block[dims * (dims + 1) / 2]; // the block's upper triangle, packed
-  for (int k = 0; k < dims * (dims + 1) / 2; ++k)
-    block[k] = S (0);
+#if defined(__GNUC__) && !defined(__CUDACC__)
+  typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
+#else
+  typedef FourLanes<S> Lane;
+#endif
+  constexpr int dims = hi - lo, lanes = (dims + 3) / 4;
   // The points' G on the box, padded with zeros so that the sliding sums need no tests: grid
   // column p holds box column p - w (pads 0 .. w - 1 and nu + w .. nu + 2w - 1), and window x
   // (box columns x - w + 1 .. x) sums grid columns x + 1 .. x + w; the same for the rows.
   const int pw = nu + 2 * w;
-  S grid[kMaxSharedLines * (kMaxSharedLines + 2 * kMaxWindowPx)][dims];
+  Lane grid[kMaxSharedLines * (kMaxSharedLines + 2 * kMaxWindowPx)][lanes];
   for (int c = 0; c < nv * pw; ++c)
-    for (int d = 0; d < dims; ++d)
-      grid[c][d] = S (0);
+    for (int l = 0; l < lanes; ++l)
+      grid[c][l] = Lane{};
   for (int k = 0; k < count; ++k)
+  {
+    Lane *cell = grid[(v[k] - v0) * pw + (u[k] - u0 + w)];
     for (int d = 0; d < dims; ++d)
-      grid[(v[k] - v0) * pw + (u[k] - u0 + w)][d] = G[k][lo + d];
-  S row[kMaxSharedLines + 2 * kMaxWindowPx][dims]; // row y + w: box row y's sum over window x's columns
+      cell[d / 4][d % 4] = G[k][lo + d];
+  }
+  Lane row[kMaxSharedLines + 2 * kMaxWindowPx][lanes]; // row y + w: box row y's sum over window x's columns
   for (int y = 0; y < nv + 2 * w; ++y)
-    for (int d = 0; d < dims; ++d)
-      row[y][d] = S (0);
-  // A column of windows' sums, value by value, padded with zeros to whole groups of four: the
-  // products then take four windows a step in SIMD lanes (docs/benchmarks.md).
-  const int ny = nv + w - 1, ny4 = (ny + 3) / 4 * 4;
-  S column[dims][(kMaxSharedLines + kMaxWindowPx + 2) / 4 * 4];
-  for (int d = 0; d < dims; ++d)
-    for (int y = ny; y < ny4; ++y)
-      column[d][y] = S (0);
-#if defined(__GNUC__) && !defined(__CUDACC__)
-  typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
-  Lane lanes[dims * (dims + 1) / 2];
-  for (int k = 0; k < dims * (dims + 1) / 2; ++k)
-    lanes[k] = Lane{};
-#endif
+    for (int l = 0; l < lanes; ++l)
+      row[y][l] = Lane{};
+  Lane sum[dims][lanes]; // row a of sum H_c H_c', lanes a / 4 on
+  for (int a = 0; a < dims; ++a)
+    for (int l = 0; l < lanes; ++l)
+      sum[a][l] = Lane{};
+  const int ny = nv + w - 1;
   for (int x = 0; x < nu + w - 1; ++x)
   {
     for (int y = 0; y < nv; ++y)
-      for (int d = 0; d < dims; ++d)
-        row[y + w][d] += grid[y * pw + x + w][d] - grid[y * pw + x][d];
-    S H[dims]; // window (x, y): rows y - w + 1 .. y
-    for (int d = 0; d < dims; ++d)
-      H[d] = S (0);
-    for (int y = 0; y < ny; ++y)
-      for (int d = 0; d < dims; ++d)
-      {
-        H[d] += row[y + w][d] - row[y][d];
-        column[d][y] = H[d];
-      }
-#if defined(__GNUC__) && !defined(__CUDACC__)
-    for (int y = 0; y < ny4; y += 4)
-    {
-      Lane h[dims];
-      for (int d = 0; d < dims; ++d)
-        std::memcpy (&h[d], &column[d][y], sizeof (Lane));
-      addOuterProduct<dims> (h, lanes);
-    }
-#else
+      for (int l = 0; l < lanes; ++l)
+        row[y + w][l] += grid[y * pw + x + w][l] - grid[y * pw + x][l];
+    Lane H[lanes]; // window (x, y): rows y - w + 1 .. y
+    for (int l = 0; l < lanes; ++l)
+      H[l] = Lane{};
     for (int y = 0; y < ny; ++y)
     {
-      S h[dims];
-      for (int d = 0; d < dims; ++d)
-        h[d] = column[d][y];
-      addOuterProduct<dims> (h, block);
+      for (int l = 0; l < lanes; ++l)
+        H[l] += row[y + w][l] - row[y][l];
+      PCL_TEXLET_UNROLL_LOOP
+      for (int a = 0; a < dims; ++a)
+        PCL_TEXLET_UNROLL_LOOP
+        for (int l = a / 4; l < lanes; ++l)
+          sum[a][l] += H[a / 4][a % 4] * H[l];
     }
-#endif
   }
-#if defined(__GNUC__) && !defined(__CUDACC__)
-  for (int k = 0; k < dims * (dims + 1) / 2; ++k)
-    block[k] = (lanes[k][0] + lanes[k][1]) + (lanes[k][2] + lanes[k][3]);
-#endif
   const S inv_w2 = S (1) / (S (w) * S (w));
-  for (int a = 0, k = 0; a < dims; ++a)
-    for (int b = a; b < dims; ++b, ++k)
-      out[packedIndex<D> (lo + a, lo + b)] = block[k] * inv_w2;
+  for (int a = 0; a < dims; ++a)
+    for (int b = a; b < dims; ++b)
+      out[packedIndex<D> (lo + a, lo + b)] = sum[a][b / 4][b % 4] * inv_w2;
 }
 
 /** \brief The windowed part of a Monte Carlo sample's noise (host only): normals on the cells of

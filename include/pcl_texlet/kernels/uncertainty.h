@@ -231,20 +231,20 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   S window_form[21];
   bool window_resolved = false;
   const LineSpan columns = sharedLines (nb);
-  const WindowBox box = windowBox (nb);
+#if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
+  int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
+  const WindowBox box = windowBox (nb, pu, pv);
+#else
+  const WindowBox box = WindowBox ();
+#endif
   if (box.on)
   {
-#if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
+#if !defined(__CUDA_ARCH__)
     // Every point's SD-weighted Jacobians kept, for the window's pairs (shared_noise.h).
     S Gp[kMaxWindowPoints][6];
-    int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
     for (int k = 0; k < nb.count; ++k)
-    {
       for (int j = 0; j < 6; ++j)
         Gp[k][j] = S (0);
-      pu[k] = nb.pixel[k] % nb.width;
-      pv[k] = nb.pixel[k] / nb.width;
-    }
     JacobianRows<S> rows;
     rows.rows = Gp;
     analyticPlaneTermsOfAll (nb, mask, fit, f, cp, cn, ct, cs, rows);
@@ -654,17 +654,12 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   S window_ww[45];
   bool windowed = false;
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
-  const WindowBox box = windowBox (nb);
+  int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
+  const WindowBox box = windowBox (nb, pu, pv);
   S W[kMaxWindowPoints][9]; // with a window, every point's linear weights for its form
   pcaModelSumsOf (nb, mask, basis, sums, box.on ? W : nullptr);
   if (box.on)
   {
-    int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
-    for (int k = 0; k < nb.count; ++k)
-    {
-      pu[k] = nb.pixel[k] % nb.width;
-      pv[k] = nb.pixel[k] / nb.width;
-    }
     windowForm<S, 9> (W, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_ww);
     windowed = true;
   }
