@@ -293,13 +293,15 @@ pcaModelSumsOf (const Neighbourhood<S> &nb, const unsigned char *mask, const Pca
   * With a part \a window of the noise shared over a window (shared_noise.h) and \a window_ww
   * its form of the points' w (windowForm() of pcaModelWeights(), 45 values), y's covariance is
   * (1/n^2) ((1 - rho - window) sum w w' + window window_ww): Gaussian, so y keeps the per-point
-  * sampler's law exactly. The quadratic term's fluctuation keeps the covariance of independent
+  * sampler's law exactly. Without the form (a disc wider than windowBox() resolves) the window's
+  * part is own noise whose variance is multiplied by \a inflation (windowInflation()), as in the
+  * analytic propagation. The quadratic term's fluctuation keeps the covariance of independent
   * own noise (the window's correlation of the g_k^2 is left out: docs/texlet_covariances.md).
   */
 template <typename S> PCL_TEXLET_HD void
 preparePcaSampleModel (const PcaModelSums<S> &sums, int n, S rho, const PlaneFit<S> &fit, const Vec3<S> &n0,
                        const Vec3<S> &t1, const Vec3<S> &t2, PcaSampleModel<S> &md, S window = S (0),
-                       const S *window_ww = nullptr)
+                       const S *window_ww = nullptr, S inflation = S (1))
 {
   typedef PcaModelSums<S> Sums;
   md.axes[0] = fit.N;
@@ -314,7 +316,7 @@ preparePcaSampleModel (const PcaModelSums<S> &sums, int n, S rho, const PlaneFit
   md.shared = rho > S (0);
   const S own = md.shared ? S (1) - rho : S (1), own_quad = md.shared ? S (1) - rho * rho : S (1);
   const bool windowed = window_ww && window > S (0);
-  const S own_lin = windowed ? own - window : own;
+  const S own_lin = windowed ? own - window : own + window * (inflation - S (1));
   S c[45];
   for (int k = 0; k < 45; ++k)
     c[k] = (own_lin * sums.v[Sums::kWW + k] + (windowed ? window * window_ww[k] : S (0))) * inv_n2;

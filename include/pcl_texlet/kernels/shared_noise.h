@@ -126,7 +126,9 @@ struct WindowBox
 
 /** \brief Whether the window-shared noise of \a nb is resolved (it has some, and the points'
   * bounding box fits kMaxSharedLines x kMaxSharedLines); the box's corner and size. Where \a u
-  * and \a v are given (and the disc has such noise), the points' pixels go there too.
+  * and \a v are given (kMaxWindowPoints each) and the disc has such noise, the points' pixels go
+  * there too, the first kMaxWindowPoints of them: all of them where the box is on (at most one
+  * point per pixel).
   */
 template <typename S> PCL_TEXLET_HD WindowBox
 windowBox (const Neighbourhood<S> &nb, int *u = nullptr, int *v = nullptr)
@@ -138,7 +140,7 @@ windowBox (const Neighbourhood<S> &nb, int *u = nullptr, int *v = nullptr)
   for (int k = 0; k < nb.count; ++k)
   {
     const int y = nb.pixel[k] / nb.width, x = nb.pixel[k] - y * nb.width;
-    if (u)
+    if (u && k < kMaxWindowPoints)
     {
       u[k] = x;
       v[k] = y;
@@ -378,7 +380,8 @@ struct SharedDraw
   /** \param lines sharedLines() of \a nb, or none where the points' columns are not known (the
     * ring of normal averaging): one e for all
     * \param window_drawn the window's part is drawn apart (WindowDraw, windowBox() on), else it stays
-    * in the own part
+    * in the own part with its variance multiplied by windowInflation(), as the analytic
+    * propagation takes it (addSharedNoise())
     */
   PCL_TEXLET_HD
   SharedDraw (const Neighbourhood<S> &nb, const LineSpan &lines, bool window_drawn, std::uint32_t seed,
@@ -386,7 +389,8 @@ struct SharedDraw
     : span (lines)
   {
     e[0] = S (0);
-    own = std::sqrt (S (1) - nb.shared_fraction - (window_drawn ? nb.window_fraction : S (0)));
+    own = std::sqrt (S (1) - nb.shared_fraction +
+                     (window_drawn ? -nb.window_fraction : nb.window_fraction * (windowInflation (nb) - S (1))));
     if (!(nb.shared_fraction > S (0)))
       return;
     root = std::sqrt (nb.shared_fraction);

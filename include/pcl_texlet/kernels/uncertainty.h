@@ -668,7 +668,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
 #endif
   PcaSampleModel<S> md;
   preparePcaSampleModel (sums, n, nb.shared_fraction, fit, centre.N0, centre.t1, centre.t2, md, nb.window_fraction,
-                         windowed ? window_ww : nullptr);
+                         windowed ? window_ww : nullptr, windowInflation (nb));
 
   SampleCovariance<S> acc;
   acc.reset (centre);
