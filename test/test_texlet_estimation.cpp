@@ -703,6 +703,40 @@ TEST (TexletEstimation, PerPixelNoiseFollowsTheCameraAndEqualsTheGeneralModel)
   }
 }
 
+namespace
+{
+
+/** Analytic texlets of \a cloud under \a model with a fixed RANSAC threshold (the same inliers
+  * whatever the model's variances). */
+template <typename PointT>
+pcl::PointCloud<pcl::Texlet>
+analyticWithFixedThreshold (const pcl::PointCloud<PointT> &cloud, const pcl::texlet::NoiseModel &model,
+                            const CameraSpec &cam)
+{
+  pcl::TexletEstimation<PointT> est;
+  est.setInputCloud (cloud.makeShared ());
+  est.setNoiseModel (model);
+  est.setCameraModel (std::make_shared<pcl::texlet::PinholeModel> (cam.pinhole ()));
+  est.setRansacThreshold (1.0);
+  est.setUncertaintyMethod (UncertaintyMethod::Analytic);
+  pcl::PointCloud<pcl::Texlet> out;
+  est.compute (out);
+  return out;
+}
+
+/** \a cloud with every point of grey level \a g. */
+pcl::PointCloud<pcl::PointXYZRGBA>
+greyCopy (const pcl::PointCloud<pcl::PointXYZ> &cloud, std::uint8_t g)
+{
+  pcl::PointCloud<pcl::PointXYZRGBA> c;
+  pcl::copyPointCloud (cloud, c);
+  for (auto &p : c.points)
+    p.r = p.g = p.b = g;
+  return c;
+}
+
+} // namespace
+
 TEST (TexletEstimation, GreyLevelOfColourPointsReachesTheNoiseModel)
 {
   // covariate:intensity multiplies every variance of a point by exp (log_factor_black) on a
@@ -713,28 +747,11 @@ TEST (TexletEstimation, GreyLevelOfColourPointsReachesTheNoiseModel)
   const auto paper = pcl::texlet::NoiseModel::paper ();
   const Render r = render (sphereScene (), cam, &paper, 7);
   const pcl::texlet::NoiseTerm::Ptr term = pcl::texlet::makeNoiseTerm ("covariate:intensity");
-  term->setParameters ({std::log (4.0), 1.0, 0.5, 0.25});
+  term->setParameters ({std::log (4.0), 1.0, 0.5, 0.25, 0.0, 0.0, 0.0, 0.0});
   pcl::texlet::NoiseModel model = paper;
   model.add (*term);
-  auto run = [&] (auto cloud) {
-    pcl::TexletEstimation<typename decltype (cloud)::element_type::PointType> est;
-    est.setInputCloud (cloud);
-    est.setNoiseModel (model);
-    est.setCameraModel (std::make_shared<pcl::texlet::PinholeModel> (cam.pinhole ()));
-    est.setRansacThreshold (1.0);
-    est.setUncertaintyMethod (UncertaintyMethod::Analytic);
-    pcl::PointCloud<pcl::Texlet> out;
-    est.compute (out);
-    return out;
-  };
-  auto grey = [&] (std::uint8_t g) {
-    auto c = std::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>> ();
-    pcl::copyPointCloud (r.cloud, *c);
-    for (auto &p : c->points)
-      p.r = p.g = p.b = g;
-    return c;
-  };
-  const auto none = run (r.cloud.makeShared ()), white = run (grey (255)), black = run (grey (0));
+  auto run = [&] (const auto &cloud) { return analyticWithFixedThreshold (cloud, model, cam); };
+  const auto none = run (r.cloud), white = run (greyCopy (r.cloud, 255)), black = run (greyCopy (r.cloud, 0));
   ASSERT_EQ (none.size (), black.size ());
   std::size_t compared = 0;
   for (std::size_t i = 0; i < none.size (); ++i)
@@ -744,6 +761,40 @@ TEST (TexletEstimation, GreyLevelOfColourPointsReachesTheNoiseModel)
     EXPECT_FLOAT_EQ (white[i].cov_p_xx, none[i].cov_p_xx);
     EXPECT_NEAR (black[i].cov_p_zz / none[i].cov_p_zz, 4.0, 1e-4);
     EXPECT_NEAR (black[i].cov_n_11 / none[i].cov_n_11, 4.0, 1e-4);
+    ++compared;
+  }
+  EXPECT_GT (compared, 100u);
+}
+
+TEST (TexletEstimation, GreyLevelsOffsetComesOffTheReadings)
+{
+  // covariate:intensity's disparity offset on a black surface (the model: a dim dot is read
+  // nearer by j o, j the depth per px of disparity) comes off each reading before the fit: P moves
+  // further along its ray, by an amount linear in the offset to first order; on a white surface
+  // the offset is 0 and nothing moves.
+  const CameraSpec cam;
+  const auto paper = pcl::texlet::NoiseModel::paper ();
+  const Render r = render (sphereScene (), cam, &paper, 7);
+  auto run = [&] (std::uint8_t g, double offset_px) {
+    const pcl::texlet::NoiseTerm::Ptr term = pcl::texlet::makeNoiseTerm ("covariate:intensity");
+    term->setParameters ({0.0, 0.0, 0.0, 0.0, offset_px, 0.0, 0.0, 0.0});
+    pcl::texlet::NoiseModel model = paper;
+    model.add (*term);
+    EXPECT_TRUE (model.movesMean ());
+    return analyticWithFixedThreshold (greyCopy (r.cloud, g), model, cam);
+  };
+  const auto none = run (0, 0.0), black = run (0, 0.1), blacker = run (0, 0.2), white = run (255, 0.2);
+  ASSERT_EQ (none.size (), black.size ());
+  std::size_t compared = 0;
+  for (std::size_t i = 0; i < none.size (); ++i)
+  {
+    if (!std::isfinite (none[i].x) || !std::isfinite (black[i].x) || !std::isfinite (blacker[i].x))
+      continue;
+    const Eigen::Vector3d p = centreOf (none[i]), ray = p.normalized ();
+    const Eigen::Vector3d d1 = centreOf (black[i]) - p, d2 = centreOf (blacker[i]) - p;
+    EXPECT_EQ ((centreOf (white[i]) - p).norm (), 0.0);
+    EXPECT_GT (d1.dot (ray), 0.0) << "the offset reads nearer: taken off, P moves away";
+    EXPECT_NEAR (d1.dot (ray), 0.5 * d2.dot (ray), 0.02 * d2.dot (ray));
     ++compared;
   }
   EXPECT_GT (compared, 100u);

@@ -153,6 +153,9 @@ struct TermParameter
   /** \brief The least meaningful value: the term reads any value below it as this one (a count
     * of bands below 1 as 1), so the lab's fit keeps to it and a model file may not go below. */
   double lowest = -INFINITY;
+  /** \brief Whether the parameter moves only the steady mean depth: the lab fits it with the
+    * surfaces to the pixels' means, not to the temporal contrasts as a variance. */
+  bool fitted_to_means = false;
 };
 
 /** \brief Settings of a term without any. */

@@ -340,6 +340,13 @@ public:
   }
 
   bool
+  fittedToMeans (std::size_t k) const override
+  {
+    const effects::TermParameter *p = declaredParameter (k);
+    return p && p->fitted_to_means;
+  }
+
+  bool
   frameDependent () const override
   {
     if constexpr (detail::Has<Effect, detail::FrameDependentOp>::value)

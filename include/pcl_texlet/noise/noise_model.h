@@ -170,6 +170,12 @@ public:
   virtual double
   lowestValue (std::size_t /*k*/) const { return -std::numeric_limits<double>::infinity (); }
 
+  /** \brief Whether parameter \a k moves only the steady mean (effects::TermParameter::
+    * fitted_to_means): the lab fits it to the pixels' means with the surfaces. None by default.
+    */
+  virtual bool
+  fittedToMeans (std::size_t /*k*/) const { return false; }
+
   /** \brief Whether bias () depends on PixelContext::frame (then the lab predicts the frames'
     * mean offsets from it).
     */
