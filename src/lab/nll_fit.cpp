@@ -55,8 +55,9 @@ dataLatticeStepPx (const QuantisationLattice &lattice, const std::vector<Recordi
   return lattice.stepPx (recs.front ()->fb (), recs.front ()->camera.disparity_subpixel);
 }
 
-/** The parameters a fit changes: every term's but a linear bias term's and a rounding's on the
-  * data's lattice (\a data_step_px, onDataLattice()), or only \a only_term's. */
+/** The parameters a fit changes: every term's but a linear bias term's, a parameter of the
+  * steady mean and a rounding's on the data's lattice (\a data_step_px, onDataLattice()), or only
+  * \a only_term's. */
 ParameterMap
 parameterMap (const NoiseModel &m, int only_term = -1, double data_step_px = 0)
 {
@@ -72,6 +73,8 @@ parameterMap (const NoiseModel &m, int only_term = -1, double data_step_px = 0)
     const auto values = term->parameters ();
     for (std::size_t k = 0; k < values.size (); ++k)
     {
+      if (term->fittedToMeans (k)) // by least squares with the surfaces (staticFit)
+        continue;
       pm.where.emplace_back (t, k);
       pm.scale.push_back (std::max (std::fabs (values[k]), term->typicalScale (k)));
     }
@@ -234,6 +237,13 @@ fitObjective (NoiseModel &model, const ModelLab::Data &d, const std::vector<Reco
       grid->setSetting (kv.first, kv.second);
     grid->setParameters (s.grid);
   }
+  for (std::size_t j = 0; j < s.means.size (); ++j)
+  {
+    const NoiseTerm::Ptr term = model.find (mv.means[j].first);
+    std::vector<double> values = term->parameters ();
+    values[mv.means[j].second] = s.means[j];
+    term->setParameters (values);
+  }
   return objective (ModelView (model), d, s) / d.samples;
 }
 
@@ -244,9 +254,8 @@ fitOn (const NoiseModel &start, const ModelLab::Data &d, const std::vector<Recor
   NoiseModel model (start);
   const double data_step_px = dataLatticeStepPx (d.lattice, recs);
   const ParameterMap pm = parameterMap (model, -1, data_step_px);
-  bool has_static = false; // a rounding or a linear bias term: the static fit changes with the rest
-  for (const auto &t : model.terms ())
-    has_static = has_static || t->quantises () || t->linearBiasSupport () > 0;
+  // A rounding, a linear bias term or a steady mean's parameter: the static fit changes with the rest.
+  const bool has_static = ModelView (model).hasStaticFit ();
   // A new grid term's shape along depth is chosen in the first static fit, its nodes in every
   // one: the shape's score is the static NLL, which the variances fitted next hardly move
   // (the grid is a bias), and each shape tried is one more solve (docs/model_lab.md section 9).

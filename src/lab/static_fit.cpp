@@ -45,7 +45,7 @@ binMoments (const ModelView &mv, const std::vector<Bin> &bins, StaticState &s)
     const NoiseMoments m = mv.without_grid.moments (bins[b].ctx);
     s.bin_var[b] = recordedVarianceOverPhases (mv.model, mv.quantised, m.variance_mm2);
     s.bin_shared[b] = m.sharedVarianceMm2 ();
-    s.bin_bias[b] = mv.quantised ? m.bias_mm : 0.0;
+    s.bin_bias[b] = m.bias_mm;
   }
 }
 
@@ -93,7 +93,32 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
       s.pixel_bias[k] = static_cast<float> (pre_bias[p.qbin] - p.J * offset);
     }
   }
-  const int N = static_cast<int> (3 * R) + G;
+  // The steady mean's parameters (fitted with the grid): the bias each moves per bin, linear in
+  // it, taken off as a disparity offset as every other bias is.
+  const int M = fit_grid ? static_cast<int> (mv.means.size ()) : 0;
+  std::vector<double> phi (bins.size () * M), theta (M);
+  if (M)
+  {
+    NoiseModel probe (mv.quantised ? mv.pre_quantised : mv.without_grid);
+    std::vector<double> base (bins.size ());
+    for (std::size_t b = 0; b < bins.size (); ++b)
+      base[b] = probe.moments (bins[b].ctx).bias_mm;
+    for (int j = 0; j < M; ++j)
+    {
+      const NoiseTerm::Ptr term = probe.find (mv.means[j].first);
+      std::vector<double> values = term->parameters ();
+      const std::size_t k = mv.means[j].second;
+      theta[j] = values[k];
+      values[k] += 1.0;
+      term->setParameters (values);
+      for (std::size_t b = 0; b < bins.size (); ++b)
+        phi[b * M + j] = probe.moments (bins[b].ctx).bias_mm - base[b];
+      values[k] = theta[j];
+      term->setParameters (values);
+    }
+  }
+  const int X = G + M; // unknowns besides the surfaces
+  const int N = static_cast<int> (3 * R) + X;
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero (N, N);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero (N);
   auto gridAt = [&] (const PixelRow &p, int *idx, double *wt) {
@@ -103,8 +128,27 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
     for (int k = 0; k < K; ++k)
       wt[k] *= shape;
   };
+  // The unknowns besides the surfaces at pixel p: the grid's basis, then the steady mean's
+  // parameters; their indices into the solution and their weights, \return how many.
+  auto extrasAt = [&] (const PixelRow &p, int *idx, double *wt) {
+    int n = 0;
+    if (G)
+    {
+      gridAt (p, idx, wt);
+      for (int k = 0; k < K; ++k)
+        idx[k] += static_cast<int> (3 * R);
+      n = K;
+    }
+    const int b = mv.quantised ? p.qbin : p.bin;
+    for (int j = 0; j < M; ++j, ++n)
+    {
+      idx[n] = static_cast<int> (3 * R) + G + j;
+      wt[n] = -phi[b * M + j] / p.J;
+    }
+    return n;
+  };
   auto target = [&] (const PixelRow &p) {
-    double t = p.disparity + (mv.quantised ? s.pixel_bias[&p - d.px.data ()] / p.J : 0.0);
+    double t = p.disparity + (mv.quantised ? s.pixel_bias[&p - d.px.data ()] : s.bin_bias[p.bin]) / p.J;
     if (grid && !fit_grid)
     {
       int idx[kMaxBiasBasis];
@@ -144,19 +188,19 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
         for (int c = 0; c < 3; ++c)
           A_part (o + a, o + c) += w * row[a] * row[c];
       }
-      if (G)
+      if (X)
       {
-        int idx[kMaxBiasBasis];
-        double wt[kMaxBiasBasis];
-        gridAt (p, idx, wt);
-        for (int k = 0; k < K; ++k)
+        int idx[kMaxBiasBasis + kMaxMeanParameters];
+        double wt[kMaxBiasBasis + kMaxMeanParameters];
+        const int n = extrasAt (p, idx, wt);
+        for (int k = 0; k < n; ++k)
         {
-          const int gk = static_cast<int> (3 * R) + idx[k];
+          const int gk = idx[k];
           rhs_part[gk] += w * wt[k] * t;
           for (int a = 0; a < 3; ++a)
             A_part (gk, o + a) += w * wt[k] * row[a];
-          for (int l = 0; l < K; ++l)
-            A_part (gk, static_cast<int> (3 * R) + idx[l]) += w * wt[k] * wt[l];
+          for (int l = 0; l < n; ++l)
+            A_part (gk, idx[l]) += w * wt[k] * wt[l];
         }
       }
     }
@@ -167,9 +211,9 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
       A += A_parts[t];
       rhs += rhs_parts[t];
     }
-  // The grid-plane block was summed on one side only.
-  if (G)
-    A.topRightCorner (3 * R, G) = A.bottomLeftCorner (G, 3 * R).transpose ();
+  // The block of the surfaces and the other unknowns was summed on one side only.
+  if (X)
+    A.topRightCorner (3 * R, X) = A.bottomLeftCorner (X, 3 * R).transpose ();
   // A small ridge keeps nodes without data at zero.
   const double scale = A.diagonal ().cwiseAbs ().maxCoeff () + 1.0, ridge = 1e-9 * scale;
   for (int k = 0; k < N; ++k)
@@ -196,7 +240,7 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
       if (c.norm () > 0)
       {
         c.normalize ();
-        A.bottomRightCorner (G, G) += 1e3 * scale * c * c.transpose ();
+        A.block (3 * R, 3 * R, G, G) += 1e3 * scale * c * c.transpose ();
       }
   }
   const Eigen::VectorXd sol = A.ldlt ().solve (rhs);
@@ -205,7 +249,10 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
     s.planes[r] = sol.segment<3> (3 * r);
   s.grid.clear ();
   if (G)
-    s.grid.assign (sol.data () + 3 * R, sol.data () + N);
+    s.grid.assign (sol.data () + 3 * R, sol.data () + 3 * R + G);
+  s.means.clear ();
+  for (int j = 0; j < M; ++j)
+    s.means.push_back (theta[j] + sol[3 * R + G + j]);
 
   s.ss_static.assign (bins.size (), 0.0);
   std::vector<std::vector<double>> ss_parts (omp_get_max_threads ());
@@ -223,13 +270,13 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
         predicted = s.planes[p.rec].dot (Eigen::Vector3d (1.0, p.x, p.y));
       else
         predicted = 1000.0 * m.fb () / m.surface_mm[p.index];
-      if (G)
+      if (X)
       {
-        int idx[kMaxBiasBasis];
-        double wt[kMaxBiasBasis];
-        gridAt (p, idx, wt);
-        for (int k = 0; k < K; ++k)
-          predicted += wt[k] * s.grid[idx[k]];
+        int idx[kMaxBiasBasis + kMaxMeanParameters];
+        double wt[kMaxBiasBasis + kMaxMeanParameters];
+        const int n = extrasAt (p, idx, wt);
+        for (int k = 0; k < n; ++k)
+          predicted += wt[k] * sol[idx[k]];
       }
       const double e = p.J * (target (p) - predicted);
       const int b = mv.quantised ? p.qbin : p.bin;

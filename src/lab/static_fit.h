@@ -28,9 +28,12 @@ namespace detail
 
 /** The most basis functions a linear bias term may have at one pixel. */
 constexpr int kMaxBiasBasis = 16;
+/** The most parameters of the steady mean a model may have besides its grid's. */
+constexpr int kMaxMeanParameters = 16;
 
 /** The model as the fits see it: the term whose bias is linear (a distortion grid, fitted by
-  * least squares with the surfaces) and the term that rounds apart from the rest.
+  * least squares with the surfaces), the parameters of the steady mean (fitted with them) and the
+  * term that rounds apart from the rest.
   */
 struct ModelView
 {
@@ -40,6 +43,9 @@ struct ModelView
   NoiseModel pre_quantised;  // ... and less the rounding term (its bias is per pixel too)
   NoiseTerm::ConstPtr quantiser;
   NoiseTerm::ConstPtr grid;
+  /** The parameters of the steady mean besides the grid's (NoiseTerm::fittedToMeans): term name
+    * and parameter index. The term's bias must be linear in them. */
+  std::vector<std::pair<std::string, std::size_t>> means;
   explicit ModelView (const NoiseModel &m) : model (m), without_grid (m), pre_quantised (m)
   {
     for (const auto &t : m.terms ())
@@ -49,6 +55,14 @@ struct ModelView
       if (!quantiser && t->quantises ())
         quantiser = t;
     }
+    for (const auto &t : m.terms ())
+      if (t != grid)
+        for (std::size_t k = 0; k < t->parameters ().size (); ++k)
+          if (t->fittedToMeans (k))
+            means.emplace_back (t->name (), k);
+    if (means.size () > static_cast<std::size_t> (kMaxMeanParameters))
+      throw pcl::BadArgumentException ("model lab: the model has more than " + std::to_string (kMaxMeanParameters) +
+                                       " parameters of the steady mean");
     quantised = quantiser != nullptr;
     if (grid)
     {
@@ -61,6 +75,11 @@ struct ModelView
     if (quantiser)
       pre_quantised.remove (quantiser->name ());
   }
+
+  /** Whether the static fit changes with the other parameters (a rounding, a grid or a steady
+    * mean's parameter): the fits then alternate it with the variances' fit more often. */
+  bool
+  hasStaticFit () const { return quantised || grid || !means.empty (); }
 };
 
 /** The disparity offset (px) of linear bias term \a grid with node values \a nodes at (u, v),
@@ -87,9 +106,11 @@ struct StaticState
 {
   std::vector<Eigen::Vector3d> planes;   // per recording (plane scenes)
   std::vector<double> grid;              // fitted grid node offsets, px (empty: the model's own)
+  std::vector<double> means;             // fitted ModelView::means (empty: the model's own)
   std::vector<std::pair<std::string, double>> grid_settings; // the grid's shape settings the fit chose
   std::vector<double> ss_static;         // per bin of the set in use: sum of n e^2
-  std::vector<double> bin_var, bin_shared, bin_bias; // per bin of the set in use
+  std::vector<double> bin_var, bin_shared; // per bin of the set in use
+  std::vector<double> bin_bias;          // per bin: the steady bias (mm) of the terms besides the grid and the rounding
   std::vector<float> pixel_bias;         // quantised models: per-pixel bias (mm) of the other terms
 };
 
@@ -105,8 +126,9 @@ enum class GridFit
   nodes_and_shape ///< its node values in each shape it can take (linearBiasShapeSearch); the best
 };
 
-/** Linear fit of the surfaces (plane scenes) and, as \a grid_fit says, of the distortion grid,
-  * to the pixels' mean disparities with the model's other biases removed; then the static sums.
+/** Linear fit of the surfaces (plane scenes) and, as \a grid_fit says, of the distortion grid
+  * and the parameters of the steady mean (unless GridFit::none), to the pixels' mean disparities
+  * with the model's other biases removed; then the static sums.
   * With GridFit::nodes_and_shape every combination of the grid's shape settings is fitted and
   * the one with the smallest static NLL kept (grid_settings).
   */

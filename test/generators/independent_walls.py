@@ -41,7 +41,7 @@ EFFECTS = {
     'temporal_drift': {'form': 'scale', 'amplitude': 0.004, 'tau_frames': 6.0},
     # effects outside the vocabulary
     'row_bands': {'offset_px': 0.12, 'mean_height_px': 0.0},
-    'intensity': {'gain': 2.0, 'dark': 0.07},
+    'intensity': {'gain': 2.0, 'dark': 0.07, 'bias_px': 0.0},
     'correlated': {'window_px': 9},
     'temporal_ar1': {'rho': 0.8},
 }
@@ -163,6 +163,8 @@ def main():
         albedo = printed_albedo(rng, u, v, args.width)
         sd = sd * (1 + e['gain'] * (1 - albedo) ** 2)
         valid &= albedo > e['dark']
+        # A dim dot's centroid is found off its place: a disparity offset growing with the darkness.
+        static_disparity_px += e['bias_px'] * (1 - albedo) ** 1.5
     if 'depth_distortion' in effects:
         e = effects['depth_distortion']
         x, y = (u - args.cx) / args.width, (v - args.cy) / args.width
