@@ -110,7 +110,7 @@ struct StaticState
   std::vector<std::pair<std::string, double>> grid_settings; // the grid's shape settings the fit chose
   std::vector<double> ss_static;         // per bin of the set in use: sum of n e^2
   std::vector<double> bin_var, bin_shared; // per bin of the set in use
-  std::vector<double> bin_bias;          // per bin: the steady bias (mm) of the terms besides the grid and the rounding
+  std::vector<double> bin_bias;          // per bin: the steady bias (mm) of the terms besides the grid (used where nothing rounds; a rounding's is per pixel)
   std::vector<float> pixel_bias;         // quantised models: per-pixel bias (mm) of the other terms
 };
 
