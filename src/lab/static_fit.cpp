@@ -66,9 +66,11 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
   // Quantised models: the mean offset of the rounding at each pixel's own sub-step phase (it
   // changes by a whole step over a phase, too fast for bins), from the bin's noise before it.
   s.pixel_bias.clear ();
+  // The steady bias per bin of the terms besides the grid and the rounding.
+  std::vector<double> pre_bias = s.bin_bias;
   if (mv.quantised)
   {
-    std::vector<double> pre_var (bins.size ()), pre_bias (bins.size ());
+    std::vector<double> pre_var (bins.size ());
     for (std::size_t b = 0; b < bins.size (); ++b)
     {
       const NoiseMoments m = mv.pre_quantised.moments (bins[b].ctx);
@@ -100,9 +102,6 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
   if (M)
   {
     NoiseModel probe (mv.quantised ? mv.pre_quantised : mv.without_grid);
-    std::vector<double> base (bins.size ());
-    for (std::size_t b = 0; b < bins.size (); ++b)
-      base[b] = probe.moments (bins[b].ctx).bias_mm;
     for (int j = 0; j < M; ++j)
     {
       const NoiseTerm::Ptr term = probe.find (mv.means[j].first);
@@ -112,7 +111,7 @@ solveStatic (const ModelView &mv, const NoiseTerm *grid, const ModelLab::Data &d
       values[k] += 1.0;
       term->setParameters (values);
       for (std::size_t b = 0; b < bins.size (); ++b)
-        phi[b * M + j] = probe.moments (bins[b].ctx).bias_mm - base[b];
+        phi[b * M + j] = probe.moments (bins[b].ctx).bias_mm - pre_bias[b];
       values[k] = theta[j];
       term->setParameters (values);
     }

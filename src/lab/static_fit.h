@@ -57,7 +57,7 @@ struct ModelView
     }
     for (const auto &t : m.terms ())
       if (t != grid)
-        for (std::size_t k = 0; k < t->parameters ().size (); ++k)
+        for (std::size_t k = 0, n = t->parameters ().size (); k < n; ++k)
           if (t->fittedToMeans (k))
             means.emplace_back (t->name (), k);
     if (means.size () > static_cast<std::size_t> (kMaxMeanParameters))
