@@ -10,6 +10,8 @@
  *                                                       estimator: what is kept across frames)
  *   texlet_profile_run analytic 1 --noise-model M.yaml (the texlets' noise model from a YAML
  *                                                       file, e.g. one with spatial_correlation)
+ *   texlet_profile_run analytic 2 --noise-model M.yaml --exact-window 1 (every window form by
+ *                                                       the windows' sums, not the whole disc's tables)
  *
  * method: none | analytic | mc. Exit code 2 and one line on stderr for bad arguments or files.
  */
@@ -21,11 +23,13 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace
 {
@@ -41,7 +45,8 @@ parseMethod (const std::string &s)
   throw std::invalid_argument ("method '" + s + "' is not one of none, analytic, mc");
 }
 
-/** Largest ||A - B|| / ||B|| (Frobenius) over texlets made in both, NaN-free ones only. */
+/** Largest, median and 99th percentile of ||A - B|| / ||B|| (Frobenius) over texlets made in
+  * both, NaN-free ones only. */
 void
 compare (const pcl::PointCloud<pcl::Texlet> &a, const pcl::PointCloud<pcl::Texlet> &b)
 {
@@ -50,6 +55,7 @@ compare (const pcl::PointCloud<pcl::Texlet> &a, const pcl::PointCloud<pcl::Texle
                                  std::to_string (a.size ()));
   double max_angle = 0, max_p = 0, max_cp = 0, max_cn = 0, max_curv = 0, max_radius = 0;
   std::size_t made_differs = 0, support_differs = 0, colour_differs = 0, compared = 0;
+  std::vector<double> rel_p, rel_n;
   for (std::size_t i = 0; i < a.size (); ++i)
   {
     const pcl::Texlet &x = a[i], &y = b[i];
@@ -70,10 +76,10 @@ compare (const pcl::PointCloud<pcl::Texlet> &a, const pcl::PointCloud<pcl::Texle
     max_radius = std::max (max_radius, static_cast<double> (std::fabs (x.radius - y.radius)));
     if (std::isfinite (y.cov_p_xx))
     {
-      max_cp = std::max (max_cp, static_cast<double> ((x.covarianceP () - y.covarianceP ()).norm () /
-                                                      y.covarianceP ().norm ()));
-      max_cn = std::max (max_cn, static_cast<double> ((x.covarianceN () - y.covarianceN ()).norm () /
-                                                      y.covarianceN ().norm ()));
+      rel_p.push_back ((x.covarianceP () - y.covarianceP ()).norm () / y.covarianceP ().norm ());
+      rel_n.push_back ((x.covarianceN () - y.covarianceN ()).norm () / y.covarianceN ().norm ());
+      max_cp = std::max (max_cp, rel_p.back ());
+      max_cn = std::max (max_cn, rel_n.back ());
     }
     else if (std::isfinite (x.cov_p_xx))
       ++made_differs;
@@ -83,6 +89,15 @@ compare (const pcl::PointCloud<pcl::Texlet> &a, const pcl::PointCloud<pcl::Texle
   std::printf ("max normal angle %.3g rad, max |dP| %.3g m, max |d curvature| %.3g, max |d radius| %.3g m\n",
                max_angle, max_p, max_curv, max_radius);
   std::printf ("max relative covariance difference: Sigma_P %.3g, Sigma_N %.3g\n", max_cp, max_cn);
+  const auto quantile = [] (std::vector<double> v, double q) {
+    if (v.empty ())
+      return std::nan ("");
+    const auto k = static_cast<std::size_t> (q * static_cast<double> (v.size () - 1));
+    std::nth_element (v.begin (), v.begin () + k, v.end ());
+    return v[k];
+  };
+  std::printf ("median, 99th percentile: Sigma_P %.3g, %.3g; Sigma_N %.3g, %.3g\n", quantile (rel_p, 0.5),
+               quantile (rel_p, 0.99), quantile (rel_n, 0.5), quantile (rel_n, 0.99));
 }
 
 int
@@ -90,12 +105,13 @@ run (int argc, char **argv)
 {
   if (argc < 3)
     throw std::invalid_argument ("usage: texlet_profile_run none|analytic|mc THREADS [--save F.pcd | --compare F.pcd] "
-                                 "[--frames N] [--noise-model M.yaml]");
+                                 "[--frames N] [--noise-model M.yaml] [--exact-window 0|1]");
   const auto method = parseMethod (argv[1]);
   const int threads = std::atoi (argv[2]);
   if (threads < 1)
     throw std::invalid_argument (std::string ("threads '") + argv[2] + "' is not a positive number");
   std::string save, reference, noise_model;
+  bool exact_window = false;
   int frames = 1;
   for (int i = 3; i < argc; i += 2)
   {
@@ -109,6 +125,8 @@ run (int argc, char **argv)
       reference = value;
     else if (option == "--noise-model")
       noise_model = value;
+    else if (option == "--exact-window")
+      exact_window = value == "1";
     else if (option == "--frames")
     {
       frames = std::atoi (value.c_str ());
@@ -131,6 +149,7 @@ run (int argc, char **argv)
   est.setUncertaintyMethod (method);
   est.setMonteCarloSamples (50);
   est.setNumberOfThreads (static_cast<unsigned> (threads));
+  est.setExactWindowForm (exact_window);
   if (!noise_model.empty ())
     est.setNoiseModel (pcl::texlet::loadNoiseModelYaml (noise_model));
   pcl::PointCloud<pcl::Texlet> out;

@@ -94,6 +94,8 @@ run (int argc, char **argv)
   app.add_option ("--fig8-runs", o.fig8_runs, "noisy planes per noise level")->capture_default_str ();
   app.add_option ("--noise-model", o.noise_model,
                   "the texlets' depth noise model YAML (e.g. pcl_texlet_lab's model.yaml; default: the paper's Eq. 4)");
+  app.add_flag ("--exact-window-form", o.setup.exact_window_form,
+                "form every texlet's window-shared noise by the windows' sums (default: whole discs from tables)");
   app.add_option ("--json", o.json_path, "write every figure measured to this JSON file");
   app.add_option ("--data-dir", o.data_dir, "write gnuplot data files (timing, fig8, scaling) into this folder");
   app.add_flag ("-q,--quiet", o.quiet, "no progress lines");
@@ -136,7 +138,8 @@ run (int argc, char **argv)
                    {"disc_px", pcl::texlet::kernels::pixelDiscSize (o.setup.radius)},
                    {"ransac_iterations", o.setup.iterations}, {"montecarlo_samples", o.setup.samples},
                    {"threads", o.setup.threads},
-                   {"noise_model", o.noise_model.empty () ? std::string ("paper") : o.noise_model}};
+                   {"noise_model", o.noise_model.empty () ? std::string ("paper") : o.noise_model},
+                   {"exact_window_form", o.setup.exact_window_form}};
   const std::vector<MethodSpec> methods = comparisonMethods (fits, o.organized_knn);
   std::cout << "machine: " << cpuModel () << ", " << std::thread::hardware_concurrency () << " hardware threads; "
             << o.setup.threads << " threads used; load average " << fmt (loadAverage (), 2) << "\n";

@@ -69,6 +69,7 @@ public:
     p.samples = setup.samples;
     p.uncertainty = spec.uncertainty;
     p.fit = spec.fit;
+    p.exact_window_form = setup.exact_window_form;
     est_.setParameters (p);
     est_.setNumberOfThreads (setup.threads);
     est_.setCameraModel (camera);

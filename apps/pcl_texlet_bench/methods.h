@@ -56,6 +56,8 @@ struct Setup
   /** The texlets' depth noise model (--noise-model; the paper's by default): a model with shared
     * or windowed noise costs its propagation (docs/benchmarks.md). */
   pcl::texlet::NoiseModel noise = pcl::texlet::NoiseModel::paper ();
+  /** Every texlet's window form by the windows' sums (--exact-window-form), not the whole disc's tables. */
+  bool exact_window_form = false;
 };
 
 /** \brief What a method gave at each centre, after its last run. */

@@ -14,6 +14,8 @@ namespace texlet
 namespace kernels
 {
 
+template <typename S> struct WindowDiscForm;
+
 /** \brief The valid points of a texlet's pixel disc, with the depth noise of each, and the
   * hexagonal ring used by normal averaging. Points are in the camera frame (z = depth along
   * the optical axis, > 0); sigma is the depth SD in the same unit. Depth noise moves a point
@@ -59,6 +61,9 @@ struct Neighbourhood
     * correlate by window_fraction tri(du) tri(dv), tri(d) = max(0, 1 - |d| / window_px). */
   S window_fraction = S (0);
   int window_px = 1; ///< that window's width, whole pixels (1 .. kMaxWindowPx)
+  /** Where every disc pixel has a point, in disc order: the window's form on the whole disc
+    * (window_disc_form.h), used where every point is an inlier; null: by the windows' sums. */
+  const WindowDiscForm<S> *window_disc = nullptr;
 
   PCL_TEXLET_HD Vec3<S>
   point (int i) const { return {x[i], y[i], z[i]}; }

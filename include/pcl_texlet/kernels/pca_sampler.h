@@ -43,6 +43,7 @@
 #include <pcl_texlet/kernels/plane_fit.h>
 #include <pcl_texlet/kernels/semidefinite_factor.h>
 #include <pcl_texlet/kernels/shared_noise.h>
+#include <pcl_texlet/kernels/window_disc_form.h>
 #include <pcl_texlet/kernels/sym_eigen3.h>
 
 #include <cstring>
@@ -222,15 +223,22 @@ addPcaModelPoints (const Neighbourhood<S> &nb, const unsigned char *mask, const 
 /** \brief The sums of the Gaussian model over every point of \a nb (pcaModelPoint()), four
   * points at a time in SIMD lanes on the host, one at a time on the device. Where \a weights is
   * not null, point k's linear weights (pcaModelWeights()) are also kept at weights[k], for the
-  * window's form (shared_noise.h).
+  * window's form (shared_noise.h); where \a disc is (a whole disc's window tables), their
+  * projections on its basis go to \a projection (windowFormOfProjection()).
   */
 template <typename S> PCL_TEXLET_HD void
 pcaModelSumsOf (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaModelBasis<S> &b,
-                PcaModelSums<S> &sums, S (*weights)[9])
+                PcaModelSums<S> &sums, S (*weights)[9], const WindowDiscForm<S> *disc = nullptr,
+                S (*projection)[9] = nullptr)
 {
 #if defined(__GNUC__) && !defined(__CUDACC__)
   typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
   Lane lanes[PcaModelSums<S>::kCount] = {};
+  Lane lw[kWindowDiscBasis][9];
+  if (disc)
+    for (int a = 0; a < kWindowDiscBasis; ++a)
+      for (int j = 0; j < 9; ++j)
+        lw[a][j] = Lane{};
   for (int k = 0; k < nb.count; k += 4)
   {
     S bx[4], by[4], bz[4], bs[4], bu[4];
@@ -253,26 +261,56 @@ pcaModelSumsOf (const Neighbourhood<S> &nb, const unsigned char *mask, const Pca
     Lane q[3], a[3];
     pcaModelPointOf (b, px, py, pz, sd, use, q, a);
     addPcaModelTerms (lanes, q, a);
-    if (weights)
+    if (weights || disc)
     {
       Lane w[9];
       pcaModelWeights (q, a, w);
-      for (int i = 0; i < 4 && k + i < nb.count; ++i)
-        for (int j = 0; j < 9; ++j)
-          weights[k + i][j] = w[j][i];
+      if (weights)
+        for (int i = 0; i < 4 && k + i < nb.count; ++i)
+          for (int j = 0; j < 9; ++j)
+            weights[k + i][j] = w[j][i];
+      if (disc) // the tables are zero beyond the disc
+        PCL_TEXLET_UNROLL_LOOP
+        for (int c = 0; c < kWindowDiscBasis; ++c)
+        {
+          Lane t;
+          std::memcpy (&t, disc->lanes[k >> 2][c], sizeof t);
+          PCL_TEXLET_UNROLL_LOOP
+          for (int j = 0; j < 9; ++j)
+            lw[c][j] += t * w[j];
+        }
     }
   }
   for (int i = 0; i < PcaModelSums<S>::kCount; ++i)
     sums.v[i] = (lanes[i][0] + lanes[i][1]) + (lanes[i][2] + lanes[i][3]);
+  if (disc)
+    for (int c = 0; c < kWindowDiscBasis; ++c)
+      for (int j = 0; j < 9; ++j)
+        projection[c][j] = (lw[c][j][0] + lw[c][j][1]) + (lw[c][j][2] + lw[c][j][3]);
 #else
   sums.reset ();
+  if (disc)
+    for (int c = 0; c < kWindowDiscBasis; ++c)
+      for (int j = 0; j < 9; ++j)
+        projection[c][j] = S (0);
   for (int k = 0; k < nb.count; ++k)
   {
     S q[3], a[3];
     pcaModelPoint (nb, mask, k, b, q, a);
     sums.add (q, a);
-    if (weights)
-      pcaModelWeights (q, a, weights[k]);
+    if (weights || disc)
+    {
+      S w[9];
+      pcaModelWeights (q, a, w);
+      for (int j = 0; j < 9; ++j)
+      {
+        if (weights)
+          weights[k][j] = w[j];
+        if (disc)
+          for (int c = 0; c < kWindowDiscBasis; ++c)
+            projection[c][j] += disc->at (k, c) * w[j];
+      }
+    }
   }
 #endif
 }

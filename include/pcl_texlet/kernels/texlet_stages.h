@@ -27,6 +27,7 @@
 #include <pcl_texlet/kernels/neighbourhood.h>
 #include <pcl_texlet/kernels/pixel_disc.h>
 #include <pcl_texlet/kernels/texlet_kernel.h>
+#include <pcl_texlet/kernels/window_disc_form.h>
 
 #include <cmath>
 #include <cstddef>
@@ -51,6 +52,9 @@ struct FrameSettings
   int ring_du[7] = {0, 0, 0, 0, 0, 0, 0}; ///< the ring of normal averaging (hexRingOffsets())
   int ring_dv[7] = {0, 0, 0, 0, 0, 0, 0};
   bool need_sigma = true;          ///< per-point depth SDs, for an uncertainty
+  /** Host only: the disc's window forms for texlets whose disc is whole (null: every texlet's
+    * window form by the windows' sums). */
+  WindowDiscForms<S> *window_disc_forms = nullptr;
 };
 
 /** \brief Scratch of one texlet: x, y, z, sigma, pixel index and mask for disc.size points, and
@@ -330,6 +334,10 @@ frameTexlet (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, con
   }
   const CentreNoise noise = frame.centreNoise (cu, cv, zsum / count);
   discSharedNoise (noise, ws.pixel, frame.width (), nb);
+#if !defined(__CUDA_ARCH__)
+  if (fs.window_disc_forms && count == fs.disc.size && nb.window_fraction > S (0))
+    nb.window_disc = fs.window_disc_forms->of (nb.window_px);
+#endif
   TexletSettings<S> st = fs.kernel;
   st.threshold = ransacThreshold (fs, noise, nb);
 

@@ -25,6 +25,7 @@
 #include <pcl_texlet/kernels/plane_fit.h>
 #include <pcl_texlet/kernels/shared_noise.h>
 #include <pcl_texlet/kernels/tangent_frame.h>
+#include <pcl_texlet/kernels/window_disc_form.h>
 
 #include <cstring>
 
@@ -92,7 +93,9 @@ addAnalyticPlaneTerms (const V &px, const V &py, const V &pz, const V &sd, const
 
 /** \brief Where analyticPlaneTermsOfAll() also adds each point's SD-weighted Jacobians (6
   * values): nowhere (null \a rows), row k per point k (the window's form), or summed by line,
-  * row line (k) - \a first_line (the lines' form).
+  * row line (k) - \a first_line (the lines' form); and, with a whole disc's window tables
+  * \a disc, values \a lo .. \a hi - 1 times each basis value a onto projection[a]
+  * (windowFormOfProjection()).
   */
 template <typename S>
 struct JacobianRows
@@ -100,6 +103,9 @@ struct JacobianRows
   S (*rows)[6] = nullptr;
   bool by_line = false;
   int first_line = 0;
+  const WindowDiscForm<S> *disc = nullptr;
+  S (*projection)[6] = nullptr;
+  int lo = 0, hi = 6;
 
   PCL_TEXLET_HD S *
   of (const Neighbourhood<S> &nb, int k) const
@@ -118,11 +124,11 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
                          const AnalyticPlaneFactors<S> &f, S cp[4][6], S cn[4][3], S ct[4], S cs[4][6],
                          const JacobianRows<S> &out)
 {
-  const bool shared = nb.shared_fraction > S (0) || out.rows;
+  const bool shared = nb.shared_fraction > S (0) || out.rows || out.disc;
   int scalar_from = 0;
 #if defined(__GNUC__) && !defined(__CUDACC__)
   typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
-  Lane lp[6] = {}, ln[3] = {}, lt = {}, ls[6] = {};
+  Lane lp[6] = {}, ln[3] = {}, lt = {}, ls[6] = {}, lw[kWindowDiscBasis][6] = {};
   scalar_from = nb.count & ~3;
   for (int k = 0; k < scalar_from; k += 4)
   {
@@ -141,7 +147,20 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
         for (int j = 0; j < 6; ++j)
           row[j] += G[j][i];
       }
+    if (out.disc)
+      PCL_TEXLET_UNROLL_LOOP
+      for (int a = 0; a < kWindowDiscBasis; ++a)
+      {
+        Lane b;
+        std::memcpy (&b, out.disc->lanes[k >> 2][a], sizeof b);
+        for (int j = out.lo; j < out.hi; ++j)
+          lw[a][j] += b * G[j];
+      }
   }
+  if (out.disc)
+    for (int a = 0; a < kWindowDiscBasis; ++a)
+      for (int j = out.lo; j < out.hi; ++j)
+        out.projection[a][j] = (lw[a][j][0] + lw[a][j][1]) + (lw[a][j][2] + lw[a][j][3]);
   for (int i = 0; i < 4; ++i)
   {
     for (int j = 0; j < 6; ++j)
@@ -166,6 +185,10 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
       for (int j = 0; j < 6; ++j)
         row[j] += G[j];
     }
+    if (out.disc)
+      for (int a = 0; a < kWindowDiscBasis; ++a)
+        for (int j = out.lo; j < out.hi; ++j)
+          out.projection[a][j] += out.disc->at (k, a) * G[j];
   }
 }
 
@@ -232,12 +255,49 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   bool window_resolved = false;
   const LineSpan columns = sharedLines (nb);
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
+  // A whole disc of inliers takes its window form from the tables (window_disc_form.h), without
+  // the points' pixels.
+  const bool by_tables = nb.window_disc && n_in == nb.count && window > S (0);
   int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
-  const WindowBox box = windowBox (nb, pu, pv);
+  const WindowBox box = by_tables ? WindowBox () : windowBox (nb, pu, pv);
 #else
+  const bool by_tables = false;
   const WindowBox box = WindowBox ();
 #endif
-  if (box.on)
+  // (r, j1, j2, a): the normal needs j1, j2; P on the centre ray a, else r.
+  const int form_lo = centre.on ? 3 : 0, form_hi = centre.on ? 6 : 5;
+  if (by_tables)
+  {
+#if !defined(__CUDA_ARCH__)
+    // The points' SD-weighted Jacobians projected on the tables' basis as they are summed; the
+    // lines' part by line, as without a window.
+    S G[kMaxSharedLines][6] = {};
+    S projection[kWindowDiscBasis][6] = {};
+    JacobianRows<S> rows;
+    rows.disc = nb.window_disc;
+    rows.projection = projection;
+    rows.lo = form_lo;
+    rows.hi = form_hi;
+    if (columns.count > 0)
+    {
+      rows.rows = G;
+      rows.by_line = true;
+      rows.first_line = columns.first;
+    }
+    analyticPlaneTermsOfAll (nb, mask, fit, f, cp, cn, ct, cs, rows);
+    if (columns.count > 0)
+      lineForm<S, 6> (G, columns.count, nb.line_correlation, form);
+    else if (rho > S (0)) // the patch shares it whole
+    {
+      for (int j = 0; j < 6; ++j)
+        G[0][j] = (cs[0][j] + cs[1][j]) + (cs[2][j] + cs[3][j]);
+      lineForm<S, 6> (G, 1, S (1), form);
+    }
+    windowFormOfProjection<S, 6> (projection, form_lo, form_hi, window_form);
+    window_resolved = true;
+#endif
+  }
+  else if (box.on)
   {
 #if !defined(__CUDA_ARCH__)
     // Every point's SD-weighted Jacobians kept, for the window's pairs (shared_noise.h).
@@ -257,7 +317,6 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
           G[columns.count > 0 ? nb.line (k) - columns.first : 0][j] += Gp[k][j];
       lineForm<S, 6> (G, lines, columns.count > 0 ? nb.line_correlation : S (1), form);
     }
-    // (r, j1, j2, a): the normal needs j1, j2; P on the centre ray a, else r.
     if (centre.on)
       windowForm<S, 6, 3, 6> (Gp, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_form);
     else
@@ -654,14 +713,26 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   S window_ww[45];
   bool windowed = false;
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
+  // A whole disc of inliers takes its window form from the tables (window_disc_form.h).
+  const bool by_tables = nb.window_disc && n == nb.count && nb.window_fraction > S (0);
   int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
-  const WindowBox box = windowBox (nb, pu, pv);
-  S W[kMaxWindowPoints][9]; // with a window, every point's linear weights for its form
-  pcaModelSumsOf (nb, mask, basis, sums, box.on ? W : nullptr);
-  if (box.on)
+  const WindowBox box = by_tables ? WindowBox () : windowBox (nb, pu, pv);
+  if (by_tables)
   {
-    windowForm<S, 9> (W, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_ww);
+    S projection[kWindowDiscBasis][9];
+    pcaModelSumsOf (nb, mask, basis, sums, static_cast<S (*)[9]> (nullptr), nb.window_disc, projection);
+    windowFormOfProjection<S, 9> (projection, 0, 9, window_ww);
     windowed = true;
+  }
+  else
+  {
+    S W[kMaxWindowPoints][9]; // with a window, every point's linear weights for its form
+    pcaModelSumsOf (nb, mask, basis, sums, box.on ? W : nullptr);
+    if (box.on)
+    {
+      windowForm<S, 9> (W, pu, pv, nb.count, box.u0, box.v0, box.nu, box.nv, nb.window_px, window_ww);
+      windowed = true;
+    }
   }
 #else
   pcaModelSumsOf (nb, mask, basis, sums, static_cast<S (*)[9]> (nullptr));

@@ -262,6 +262,11 @@ public:
     disc.size = n;
     disc.radius = params.radius;
     settings_ = frameSettings<double> (params, viewpoint, disc, noise.minSigmaMm () * 1e-3);
+    if (!params.exact_window_form)
+    {
+      window_forms_.reset (new kernels::WindowDiscForms<double> (du_.data (), dv_.data (), n));
+      settings_.window_disc_forms = window_forms_.get ();
+    }
     scratch_ = {x_.data (), y_.data (), z_.data (), s_.data (), work_.data (), pixel_.data (), mask_.data ()};
   }
 
@@ -283,6 +288,7 @@ private:
   std::vector<double> x_, y_, z_, s_, work_;
   std::vector<int> pixel_;
   std::vector<unsigned char> mask_;
+  std::unique_ptr<kernels::WindowDiscForms<double>> window_forms_; // made per window width when first needed
 };
 
 inline void
