@@ -1,6 +1,10 @@
 /*
  * The noise model: the paper's polynomial, composition of terms, copies, bad parameters.
  */
+#include <pcl_texlet/noise/effect_adapter.h>
+#include <pcl_texlet/noise/effects/axial_quadratic.h>
+#include <pcl_texlet/noise/effects/spatial_correlation.h>
+#include <pcl_texlet/noise/effects/temporal_drift.h>
 #include <pcl_texlet/noise/noise_model.h>
 
 #include <pcl/exceptions.h>
@@ -137,4 +141,40 @@ TEST (NoiseModel, PolynomialOnlyFastPathGivesTheBitsOfSigmaMm)
   NoiseModel sub;
   sub.add (Scaled ());
   EXPECT_FALSE (sub.isPolynomialOnly (c));
+  EXPECT_FALSE (sub.depthSdIsPolynomial (c));
+}
+
+TEST (NoiseModel, DepthSdIsThePolynomialsWhereTheOtherTermsLeaveIt)
+{
+  // The polynomial with a window's share (spatial_correlation) or a drift (a bias only): the SD
+  // is the polynomial's, bit for bit, so the per-pixel SD image may take the fast path; a term
+  // with a variance (axial_quadratic) changes it.
+  using pcl::texlet::EffectTermOf;
+  namespace effects = pcl::texlet::effects;
+  pcl::texlet::kernels::PolynomialCoefficients c;
+  NoiseModel windowed = NoiseModel::paper ();
+  windowed.add (EffectTermOf<effects::SpatialCorrelation> ({0.8, 9.0}));
+  windowed.add (EffectTermOf<effects::TemporalDrift> ({0.2, 10.0, 0.0}));
+  EXPECT_FALSE (windowed.isPolynomialOnly (c));
+  ASSERT_TRUE (windowed.depthSdIsPolynomial (c));
+  int compared = 0;
+  for (double r = 0.0; r <= 800.0; r += 13.1)
+    for (double d : {350.0, 700.0, 1234.5, 1750.0, 4000.0, 9000.0})
+    {
+      PixelContext ctx;
+      ctx.radius_px = r;
+      ctx.depth_mm = d;
+      const double slow = windowed.sigmaMm (ctx);
+      const double fast = pcl::texlet::kernels::polynomialSigmaMm (c, r, d, windowed.minSigmaMm ());
+      std::uint64_t a, b;
+      std::memcpy (&a, &slow, sizeof a);
+      std::memcpy (&b, &fast, sizeof b);
+      EXPECT_EQ (a, b) << "r " << r << " d " << d;
+      ++compared;
+    }
+  EXPECT_GT (compared, 300);
+  NoiseModel varied = windowed;
+  varied.add (EffectTermOf<effects::AxialQuadratic> ({0.03}));
+  EXPECT_FALSE (varied.depthSdIsPolynomial (c));
+  EXPECT_FALSE (NoiseModel ().depthSdIsPolynomial (c));
 }

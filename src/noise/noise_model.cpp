@@ -179,6 +179,21 @@ NoiseModel::isPolynomialOnly (kernels::PolynomialCoefficients &c) const
 }
 
 bool
+NoiseModel::depthSdIsPolynomial (kernels::PolynomialCoefficients &c) const
+{
+  const NoiseTerm *polynomial = nullptr;
+  for (const auto &t : terms_)
+    if (!polynomial && typeid (*t) == typeid (PolynomialSigmaTerm))
+      polynomial = t.get ();
+    else if (t->changesDepthSd ())
+      return false;
+  if (!polynomial)
+    return false;
+  c = static_cast<const PolynomialSigmaTerm &> (*polynomial).coefficients ();
+  return true;
+}
+
+bool
 NoiseModel::remove (const std::string &name)
 {
   for (auto it = terms_.begin (); it != terms_.end (); ++it)

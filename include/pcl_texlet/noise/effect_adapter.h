@@ -369,6 +369,19 @@ public:
   bool
   movesMean () const override { return kMovesMean; }
 
+  /** \brief Whether the effect's term can change a pixel's depth SD: a variance, a factor, a
+    * line's variance, a transform of the moments or a rounding (NoiseTerm::changesDepthSd ()).
+    */
+  static constexpr bool kChangesDepthSd = detail::Has<Effect, detail::VarianceOp>::value ||
+                                          detail::Has<Effect, detail::VarianceFactorOp>::value ||
+                                          detail::Has<Effect, detail::ColumnVarianceOp>::value ||
+                                          detail::Has<Effect, detail::RowVarianceOp>::value ||
+                                          detail::Has<Effect, detail::TransformOp>::value ||
+                                          detail::Has<Effect, detail::RoundingOp>::value;
+
+  bool
+  changesDepthSd () const override { return kChangesDepthSd; }
+
   void
   roundingMoments (double d0_px, double sigma_px, double &mean_offset_px, double &variance_px2) const override
   {

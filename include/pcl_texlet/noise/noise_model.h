@@ -194,6 +194,14 @@ public:
   virtual bool
   movesMean () const { return true; }
 
+  /** \brief Whether the term can change a pixel's depth SD (NoiseModel::sigmaMm ()): a variance,
+    * a factor, a line's variance or a transform of the moments. False for a term that only says
+    * how the others' variance is shared (spatial_correlation) or only moves the mean; a term
+    * that does not say is taken to change it.
+    */
+  virtual bool
+  changesDepthSd () const { return true; }
+
   /** \brief Mean offset and variance (px) of a disparity N(\a d0_px, \a sigma_px^2) after the
     * term's rounding; no rounding by default.
     */
@@ -360,6 +368,13 @@ public:
     */
   bool
   isPolynomialOnly (kernels::PolynomialCoefficients &c) const;
+
+  /** \brief Whether the model's depth SD is one PolynomialSigmaTerm's, every other term leaving
+    * it as it is (NoiseTerm::changesDepthSd ()); then \a c gets its coefficients and sigmaMm ()
+    * equals kernels::polynomialSigmaMm (c, radius_px, depth_mm, minSigmaMm ()) bit for bit.
+    */
+  bool
+  depthSdIsPolynomial (kernels::PolynomialCoefficients &c) const;
 
 private:
   std::vector<NoiseTerm::Ptr> terms_;

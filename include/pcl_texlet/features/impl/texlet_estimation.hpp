@@ -127,6 +127,7 @@ public:
     const double sa = noise.sigmaMm (a), sb = noise.sigmaMm (b);
     angle_dependent_ = std::isfinite (sa) && std::isfinite (sb) && sa != sb;
     polynomial_only_ = noise.isPolynomialOnly (polynomial_);
+    sd_polynomial_ = noise.depthSdIsPolynomial (polynomial_);
   }
 
   /** Depth SD in metres of the point at pixel \a index with depth z (metres), from the
@@ -142,7 +143,7 @@ public:
   double
   modelSigma (int u, int v, double z) const
   {
-    if (polynomial_only_) // the same bits without the noise terms' virtual calls
+    if (sd_polynomial_) // the same bits without the noise terms' virtual calls
     {
       const double r = radius_px_ ? radius_px_[static_cast<std::size_t> (v) * this->width () + u]
                                   : camera_.principalPointDistance (u, v);
@@ -217,6 +218,7 @@ private:
   float viewpoint_[3];
   bool angle_dependent_ = false;
   bool polynomial_only_ = false; // the noise model is the paper's polynomial alone
+  bool sd_polynomial_ = false;   // its depth SD is the polynomial's (NoiseModel::depthSdIsPolynomial)
   kernels::PolynomialCoefficients polynomial_ = {};
 };
 
@@ -511,13 +513,13 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
   if (need_sigma)
     sigma_image_.resize (input.size ());
   texlet::kernels::PolynomialCoefficients polynomial = {};
-  const bool polynomial_only = noise_.isPolynomialOnly (polynomial);
+  const bool polynomial_sd = noise_.depthSdIsPolynomial (polynomial);
   const double min_sigma_mm = noise_.minSigmaMm ();
   // The paper's model needs each pixel's distance from the principal point: a virtual call and
   // a hypot per pixel, the same for every frame of one camera, so kept. The five probes catch
   // a camera object changed in place.
   bool fill_radius = false;
-  if (polynomial_only && need_sigma)
+  if (polynomial_sd && need_sigma)
   {
     const double probe[5] = {camera->principalPointDistance (0, 0), camera->principalPointDistance (w - 1, 0),
                              camera->principalPointDistance (0, h - 1), camera->principalPointDistance (w - 1, h - 1),
@@ -573,9 +575,10 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
       for (int v = 0; v < h; ++v)
       {
         double *const row = sigma_image_.data () + static_cast<std::size_t> (v) * w;
-        if (polynomial_only)
-          // The paper's model (the default): the same bits as NoiseModel::sigmaMm without its
-          // virtual calls, a large part of an analytic frame's cost (docs/benchmarks.md).
+        if (polynomial_sd)
+          // The paper's model (the default), or one whose other terms leave the SD as it is: the
+          // same bits as NoiseModel::sigmaMm without its virtual calls, a large part of an
+          // analytic frame's cost (docs/benchmarks.md).
         {
           const double *const radius = radius_image_.data () + static_cast<std::size_t> (v) * w;
           const PointInT *const points = &cloud (0, v);
@@ -598,7 +601,7 @@ TexletEstimation<PointInT, PointOutT>::computeFeature (PointCloudOut &output)
     }
     texlet::detail::TexletWorker<PointInT> worker (cloud, params_, *camera, noise_,
                                                    need_sigma ? sigma_image_.data () : nullptr, &noise_context_,
-                                                   polynomial_only && need_sigma ? radius_image_.data () : nullptr,
+                                                   polynomial_sd && need_sigma ? radius_image_.data () : nullptr,
                                                    viewpoint);
 #pragma omp for schedule(dynamic, 64)
     for (std::ptrdiff_t i = 0; i < n; ++i)
