@@ -135,6 +135,45 @@ TEST_F (ExtractApp, TheModelsBiasComesOffUnlessKept)
   EXPECT_GT (compared, 10);
 }
 
+TEST_F (ExtractApp, ExactWindowFormAgreesWithTheTables)
+{
+  // A model with noise shared over a 9 px window: --exact-window-form forms every texlet's window
+  // part by the windows' sums, the default takes whole discs of inliers from tables; the texlets
+  // are the same but for their covariances, within a few percent (docs/benchmarks.md).
+  const fs::path rec = makeRecording (1);
+  const fs::path model = dir_ / "window.yaml";
+  std::ofstream (model) << "min_sigma_mm: 0.1\n"
+                           "terms:\n"
+                           "  - name: polynomial\n"
+                           "    parameters: {p00: 2.344, p10: -1.202e-2, p01: -2.734e-3, p20: 1.818e-5, p11: 6.516e-6, "
+                           "p02: 1.233e-6}\n"
+                           "  - name: spatial_correlation\n"
+                           "    parameters: {share: 1, window_px: 9}\n";
+  const std::string args = " --quiet --uncertainty analytic --spacing 8 --noise-model " + model.string ();
+  ASSERT_EQ (run (rec.string () + " " + (dir_ / "tables").string () + args).code, 0);
+  const Result r = run (rec.string () + " " + (dir_ / "exact").string () + args + " --exact-window-form");
+  ASSERT_EQ (r.code, 0) << r.err;
+  pcl::PointCloud<pcl::Texlet> tables, exact;
+  ASSERT_EQ (pcl::io::loadPCDFile ((dir_ / "tables" / "000000.pcd").string (), tables), 0);
+  ASSERT_EQ (pcl::io::loadPCDFile ((dir_ / "exact" / "000000.pcd").string (), exact), 0);
+  ASSERT_EQ (tables.size (), exact.size ());
+  int compared = 0;
+  double worst = 0;
+  for (std::size_t i = 0; i < exact.size (); ++i)
+    if (std::isfinite (exact[i].cov_n_11))
+    {
+      ++compared;
+      EXPECT_EQ (tables[i].x, exact[i].x) << i;
+      EXPECT_EQ (tables[i].normal_z, exact[i].normal_z) << i;
+      const double d = (tables[i].covarianceN () - exact[i].covarianceN ()).norm () / exact[i].covarianceN ().norm ();
+      worst = std::max (worst, d);
+    }
+  std::cout << compared << " texlets, largest relative difference of Sigma_N " << worst << "\n";
+  EXPECT_GT (compared, 40);
+  EXPECT_LT (worst, 0.05);
+  EXPECT_GT (worst, 0.0); // the default did take the tables
+}
+
 TEST_F (ExtractApp, GrabberTiffFolderWritesOneFilePerFrame)
 {
   const fs::path out = dir_ / "out";
