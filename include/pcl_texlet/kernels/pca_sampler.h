@@ -224,7 +224,7 @@ addPcaModelPoints (const Neighbourhood<S> &nb, const unsigned char *mask, const 
   * points at a time in SIMD lanes on the host, one at a time on the device. Where \a weights is
   * not null, point k's linear weights (pcaModelWeights()) are also kept at weights[k], for the
   * window's form (shared_noise.h); where \a disc is (a whole disc's window tables), their
-  * projections on its basis go to \a projection (windowFormOfProjection()).
+  * projections on its basis go to \a projection (windowDiscFormOf()).
   */
 template <typename S> PCL_TEXLET_HD void
 pcaModelSumsOf (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaModelBasis<S> &b,

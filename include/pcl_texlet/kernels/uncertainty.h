@@ -94,8 +94,8 @@ addAnalyticPlaneTerms (const V &px, const V &py, const V &pz, const V &sd, const
 /** \brief Where analyticPlaneTermsOfAll() also adds each point's SD-weighted Jacobians (6
   * values): nowhere (null \a rows), row k per point k (the window's form), or summed by line,
   * row line (k) - \a first_line (the lines' form); and, with a whole disc's window tables
-  * \a disc, values \a lo .. \a hi - 1 times each basis value a onto projection[a]
-  * (windowFormOfProjection()).
+  * \a disc, values \a lo .. \a hi - 1 (3 .. 5, or 0 .. 4) times each basis value a onto projection[a]
+  * (windowDiscFormOf()).
   */
 template <typename S>
 struct JacobianRows
@@ -128,7 +128,13 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
   int scalar_from = 0;
 #if defined(__GNUC__) && !defined(__CUDACC__)
   typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
-  Lane lp[6] = {}, ln[3] = {}, lt = {}, ls[6] = {}, lw[kWindowDiscBasis][6] = {};
+  Lane lp[6] = {}, ln[3] = {}, lt = {}, ls[6] = {}, lw[kWindowDiscBasis][6];
+  if (out.disc)
+    for (int a = 0; a < kWindowDiscBasis; ++a)
+      for (int j = 0; j < 6; ++j)
+        lw[a][j] = Lane{};
+  // The block of values projected, fixed so that the loops below unroll: (j1, j2, a) or (r, j1, j2).
+  const bool ray_block = out.lo == 3;
   scalar_from = nb.count & ~3;
   for (int k = 0; k < scalar_from; k += 4)
   {
@@ -153,8 +159,18 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
       {
         Lane b;
         std::memcpy (&b, out.disc->lanes[k >> 2][a], sizeof b);
-        for (int j = out.lo; j < out.hi; ++j)
-          lw[a][j] += b * G[j];
+        if (ray_block)
+        {
+          PCL_TEXLET_UNROLL_LOOP
+          for (int j = 3; j < 6; ++j)
+            lw[a][j] += b * G[j];
+        }
+        else
+        {
+          PCL_TEXLET_UNROLL_LOOP
+          for (int j = 0; j < 5; ++j)
+            lw[a][j] += b * G[j];
+        }
       }
   }
   if (out.disc)
@@ -255,9 +271,11 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   bool window_resolved = false;
   const LineSpan columns = sharedLines (nb);
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
-  // A whole disc of inliers takes its window form from the tables (window_disc_form.h), without
-  // the points' pixels.
-  const bool by_tables = nb.window_disc && n_in == nb.count && window > S (0);
+  // A whole disc takes its window form from the tables (window_disc_form.h), without the points'
+  // pixels; its outliers, at most kMaxWindowDiscGaps, are gaps the tables fill.
+  int gap[kMaxWindowDiscGaps];
+  const int gaps = windowDiscGaps (nb, mask, gap);
+  const bool by_tables = gaps >= 0 && window > S (0);
   int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
   const WindowBox box = by_tables ? WindowBox () : windowBox (nb, pu, pv);
 #else
@@ -293,7 +311,7 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
         G[0][j] = (cs[0][j] + cs[1][j]) + (cs[2][j] + cs[3][j]);
       lineForm<S, 6> (G, 1, S (1), form);
     }
-    windowFormOfProjection<S, 6> (projection, form_lo, form_hi, window_form);
+    windowDiscFormOf<S, 6> (projection, form_lo, form_hi, *nb.window_disc, gap, gaps, window_form);
     window_resolved = true;
 #endif
   }
@@ -713,15 +731,17 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   S window_ww[45];
   bool windowed = false;
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
-  // A whole disc of inliers takes its window form from the tables (window_disc_form.h).
-  const bool by_tables = nb.window_disc && n == nb.count && nb.window_fraction > S (0);
+  // A whole disc takes its window form from the tables (window_disc_form.h), its outliers gaps.
+  int gap[kMaxWindowDiscGaps];
+  const int gaps = windowDiscGaps (nb, mask, gap);
+  const bool by_tables = gaps >= 0 && nb.window_fraction > S (0);
   int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
   const WindowBox box = by_tables ? WindowBox () : windowBox (nb, pu, pv);
   if (by_tables)
   {
     S projection[kWindowDiscBasis][9];
     pcaModelSumsOf (nb, mask, basis, sums, static_cast<S (*)[9]> (nullptr), nb.window_disc, projection);
-    windowFormOfProjection<S, 9> (projection, 0, 9, window_ww);
+    windowDiscFormOf<S, 9> (projection, 0, 9, *nb.window_disc, gap, gaps, window_ww);
     windowed = true;
   }
   else

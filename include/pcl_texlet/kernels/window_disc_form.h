@@ -2,14 +2,17 @@
  * pcl_texlet kernels: the window's form of a texlet whose disc is whole, from tables made once.
  *
  * windowForm() sums a disc's SD-weighted Jacobians G over every window touching its box, which
- * costs (nu + w - 1)(nv + w - 1) windows per texlet. Where every pixel of the disc has a point
- * and every point is an inlier, the points are the disc's own offsets in disc order, so the
- * kernel K (o, o') = tri (du - du') tri (dv - dv') over them is the same for every such texlet.
- * G is smooth over a disc (a plane's Jacobians times the model's SD), so the form is taken on
- * the quadratics phi (o) = (1, du, dv, du^2, du dv, dv^2): with Psi = K Phi and
- * Phi' K Phi = L L', the form G' K G is P' P + R, P = L^-1 Psi' G (6 values per G's value, one
- * pass over the points), and R = r' K r >= 0 for the part r of G that no quadratic holds
- * (K-orthogonal to them), second order in it and left out (docs/benchmarks.md).
+ * costs (nu + w - 1)(nv + w - 1) windows per texlet. Where every pixel of the disc has a point,
+ * the points are the disc's own offsets in disc order, so the kernel
+ * K (o, o') = tri (du - du') tri (dv - dv') over them is the same for every such texlet. G is
+ * smooth over a disc (a plane's Jacobians times the model's SD), so the form is taken on the
+ * quadratics phi (o) = (1, du, dv, du^2, du dv, dv^2): with Psi = K Phi and Phi' K Phi = L L',
+ * the form G' K G is P' P + R, P = L^-1 Psi' G (6 values per G's value, one pass over the
+ * points), and R = r' K r >= 0 for the part r of G that no quadratic holds (K-orthogonal to
+ * them), second order in it and left out: an under-estimate, largest where the window is narrow
+ * against the noise in the Jacobians, so the tables serve windows of kMinWindowDiscPx and more.
+ * Outliers are gaps that the quadratics' fit fills (windowDiscFormOf()). Its error:
+ * docs/benchmarks.md.
  */
 #pragma once
 
@@ -30,10 +33,16 @@ namespace kernels
 /** \brief Basis functions of a whole disc's window form: the quadratics in the pixel offset. */
 constexpr int kWindowDiscBasis = 6;
 
+/** \brief The narrowest window the tables serve, pixels: below it the part of the Jacobians no
+  * quadratic holds weighs too much in the form (docs/benchmarks.md), and the windows' sums are cheap.
+  */
+constexpr int kMinWindowDiscPx = 6;
+
 /** \brief The tables of the window's form on a whole disc for one window width: each disc
-  * offset's row of L^-1 Psi' (kWindowDiscBasis values), in disc order, four offsets side by side
-  * (offset o's value a at lanes[o / 4][a][o % 4], zero beyond the disc) so that a propagation
-  * summing four points at a time in SIMD lanes projects them as it goes.
+  * offset's row of L^-1 Psi' (the basis, kWindowDiscBasis values), in disc order, four offsets
+  * side by side (offset o's value a at lanes[o / 4][a][o % 4], zero beyond the disc) so that a
+  * propagation summing four points at a time in SIMD lanes projects them as it goes; and its
+  * row of L^-1 Phi' (the fit of the quadratics, for the gaps).
   */
 template <typename S>
 struct WindowDiscForm
@@ -41,11 +50,16 @@ struct WindowDiscForm
   int window_px = 0;
   int size = 0; ///< the disc's offsets (at most kMaxWindowPoints)
   S lanes[(kMaxWindowPoints + 3) / 4][kWindowDiscBasis][4];
+  S fit[kMaxWindowPoints][kWindowDiscBasis];
+  int du[kMaxWindowPoints], dv[kMaxWindowPoints]; ///< the offsets
 
-  /** \brief Offset \a o's basis value \a a. */
+  /** \brief Offset \a o's basis value \a a (row a of L^-1 Psi'). */
   PCL_TEXLET_HD S
   at (int o, int a) const { return lanes[o >> 2][a][o & 3]; }
 };
+
+/** \brief Most disc offsets without an inlier (no reading, or an outlier) that windowDiscGapForm() fills. */
+constexpr int kMaxWindowDiscGaps = 12;
 
 /** \brief Makes \a form for the disc of \a size offsets \a du, \a dv and a window of \a w
   * pixels. \return false (and \a form unusable) where the disc is too small or too large for the
@@ -112,44 +126,164 @@ makeWindowDiscForm (const int *du, const int *dv, int size, int w, WindowDiscFor
         form.lanes[g][a][l] = S (0);
   for (int o = 0; o < size; ++o)
   {
-    double row[m];
+    double row[m], f[m], fit[m];
+    phi (o, f);
     for (int a = 0; a < m; ++a)
     {
-      double s = psi[o][a];
+      double s = psi[o][a], t = f[a];
       for (int k = 0; k < a; ++k)
+      {
         s -= L[a][k] * row[k];
+        t -= L[a][k] * fit[k];
+      }
       row[a] = s / L[a][a];
+      fit[a] = t / L[a][a];
       form.lanes[o >> 2][a][o & 3] = static_cast<S> (row[a]);
+      form.fit[o][a] = static_cast<S> (fit[a]);
     }
+    form.du[o] = du[o];
+    form.dv[o] = dv[o];
   }
   return true;
 }
 
-/** \brief The form P' P of the projections \a P (P[a][d]: value d's sum over the points of
-  * basis value a times it) of values \a lo .. \a hi - 1, packed D x D into \a out (the rest 0).
+/** \brief The gaps of a whole disc's tables (Neighbourhood::window_disc; its points in disc order):
+  * the offsets of its outliers (mask 0) into \a gap. \return how many, or -1 where the disc has
+  * no tables or more than kMaxWindowDiscGaps outliers.
+  */
+template <typename S> PCL_TEXLET_HD int
+windowDiscGaps (const Neighbourhood<S> &nb, const unsigned char *mask, int gap[kMaxWindowDiscGaps])
+{
+  if (!nb.window_disc || nb.count != nb.window_disc->size)
+    return -1;
+  int gaps = 0;
+  for (int k = 0; k < nb.count; ++k)
+    if (!mask[k])
+    {
+      if (gaps == kMaxWindowDiscGaps)
+        return -1;
+      gap[gaps++] = k;
+    }
+  return gaps;
+}
+
+/** \brief windowForm()'s block \a lo .. \a hi - 1 of \a out for a whole disc, from its points'
+  * projections \a R on the tables' basis (R[a][d]: value d's sum over the points of basis value
+  * a times it; an outlier's values are 0), with the offsets \a gap (\a gaps of them, at most
+  * kMaxWindowDiscGaps: the outliers) filled by the quadratics' fit S, solved with it. Then
+  * G = Gf - S on the gaps, and G' K G = Gf' K Gf - 2 S' (K Gf) + S' K S: Gf' K Gf = P' P, K Gf at a
+  * gap from the tables (basis . P), S' K S exact.
   */
 template <typename S, int D> PCL_TEXLET_HD void
-windowFormOfProjection (const S (*P)[D], int lo, int hi, S out[D * (D + 1) / 2])
+windowDiscFormOf (const S (*R)[D], int lo, int hi, const WindowDiscForm<S> &form, const int *gap,
+                  int gaps, S out[D * (D + 1) / 2])
 {
+  constexpr int m = kWindowDiscBasis;
+  S fill[kMaxWindowDiscGaps][D], kg[kMaxWindowDiscGaps][kMaxWindowDiscGaps];
+  if (gaps > 0)
+  {
+    // The fill S = F (R + B S) at the gaps (F: their fit rows, B: their basis rows): solve
+    // (I - F B) S = F R by elimination with partial pivoting; I - F B is near I for a few gaps.
+    S a[kMaxWindowDiscGaps][kMaxWindowDiscGaps];
+    for (int g = 0; g < gaps; ++g)
+    {
+      for (int h = 0; h < gaps; ++h)
+      {
+        S fb = S (0);
+        for (int c = 0; c < m; ++c)
+          fb += form.fit[gap[g]][c] * form.at (gap[h], c);
+        a[g][h] = (g == h ? S (1) : S (0)) - fb;
+        kg[g][h] = windowOverlap<S> (form.du[gap[g]] - form.du[gap[h]], form.window_px) *
+                   windowOverlap<S> (form.dv[gap[g]] - form.dv[gap[h]], form.window_px);
+      }
+      for (int d = lo; d < hi; ++d)
+      {
+        S v = S (0);
+        for (int c = 0; c < m; ++c)
+          v += form.fit[gap[g]][c] * R[c][d];
+        fill[g][d] = v;
+      }
+    }
+    for (int j = 0; j < gaps; ++j)
+    {
+      int p = j;
+      for (int i = j + 1; i < gaps; ++i)
+        p = std::fabs (a[i][j]) > std::fabs (a[p][j]) ? i : p;
+      if (p != j)
+      {
+        for (int k = 0; k < gaps; ++k)
+        {
+          const S t = a[j][k]; a[j][k] = a[p][k]; a[p][k] = t;
+        }
+        for (int d = lo; d < hi; ++d)
+        {
+          const S t = fill[j][d]; fill[j][d] = fill[p][d]; fill[p][d] = t;
+        }
+      }
+      const S inv = S (1) / a[j][j];
+      for (int i = j + 1; i < gaps; ++i)
+      {
+        const S f = a[i][j] * inv;
+        for (int k = j; k < gaps; ++k)
+          a[i][k] -= f * a[j][k];
+        for (int d = lo; d < hi; ++d)
+          fill[i][d] -= f * fill[j][d];
+      }
+    }
+    for (int j = gaps - 1; j >= 0; --j)
+      for (int d = lo; d < hi; ++d)
+      {
+        S v = fill[j][d];
+        for (int k = j + 1; k < gaps; ++k)
+          v -= a[j][k] * fill[k][d];
+        fill[j][d] = v / a[j][j];
+      }
+  }
+  // The filled disc's projection.
+  S P[m][D];
+  for (int c = 0; c < m; ++c)
+    for (int d = lo; d < hi; ++d)
+    {
+      S p = R[c][d];
+      for (int g = 0; g < gaps; ++g)
+        p += form.at (gap[g], c) * fill[g][d];
+      P[c][d] = p;
+    }
+  // K Gf at each gap from the tables, less half of K S there (so that -2 S' K Gf + S' K S is
+  // the sum over the gaps of -(S kf' + kf S')).
+  S kf[kMaxWindowDiscGaps][D];
+  for (int g = 0; g < gaps; ++g)
+    for (int d = lo; d < hi; ++d)
+    {
+      S v = S (0);
+      for (int c = 0; c < m; ++c)
+        v += form.at (gap[g], c) * P[c][d];
+      for (int h = 0; h < gaps; ++h)
+        v -= S (0.5) * kg[g][h] * fill[h][d];
+      kf[g][d] = v;
+    }
   for (int k = 0; k < D * (D + 1) / 2; ++k)
     out[k] = S (0);
   for (int i = lo; i < hi; ++i)
     for (int j = i; j < hi; ++j)
     {
-      S s = S (0);
-      for (int a = 0; a < kWindowDiscBasis; ++a)
-        s += P[a][i] * P[a][j];
-      out[packedIndex<D> (i, j)] = s;
+      S v = S (0);
+      for (int c = 0; c < m; ++c)
+        v += P[c][i] * P[c][j];
+      for (int g = 0; g < gaps; ++g)
+        v -= fill[g][i] * kf[g][j] + kf[g][i] * fill[g][j];
+      out[packedIndex<D> (i, j)] = v;
     }
 }
 
-/** \brief windowForm() of a disc whose every offset holds a point (in disc order) of values \a G,
-  * by \a form's tables: the same block \a lo .. \a hi - 1 of \a out, less R (above).
+/** \brief windowForm() of a disc whose every offset holds a point (in disc order) of values \a G
+  * (an outlier's 0), by \a form's tables (windowDiscFormOf(), no gaps): the same block
+  * \a lo .. \a hi - 1 of \a out.
   */
 template <typename S, int D, int lo = 0, int hi = D> PCL_TEXLET_HD void
 windowDiscForm (const S (*G)[D], const WindowDiscForm<S> &form, S out[D * (D + 1) / 2])
 {
-  S P[kWindowDiscBasis][D] = {};
+  S R[kWindowDiscBasis][D] = {};
   for (int o = 0; o < form.size; ++o)
     PCL_TEXLET_UNROLL_LOOP
     for (int a = 0; a < kWindowDiscBasis; ++a)
@@ -157,9 +291,9 @@ windowDiscForm (const S (*G)[D], const WindowDiscForm<S> &form, S out[D * (D + 1
       const S b = form.at (o, a);
       PCL_TEXLET_UNROLL_LOOP
       for (int d = lo; d < hi; ++d)
-        P[a][d] += b * G[o][d];
+        R[a][d] += b * G[o][d];
     }
-  windowFormOfProjection<S, D> (P, lo, hi, out);
+  windowDiscFormOf<S, D> (R, lo, hi, form, nullptr, 0, out);
 }
 
 /** \brief The whole-disc window forms of one disc, one per window width, made when first asked
@@ -172,11 +306,12 @@ public:
   /** \param du, dv the disc's offsets in disc order, kept by reference */
   WindowDiscForms (const int *du, const int *dv, int size) : du_ (du), dv_ (dv), size_ (size) {}
 
-  /** \brief The form for a window of \a w pixels (1 .. kMaxWindowPx), or null where none can be made. */
+  /** \brief The form for a window of \a w pixels (1 .. kMaxWindowPx), or null where none is made
+    * (below kMinWindowDiscPx, or a disc too small for the quadratics). */
   const WindowDiscForm<S> *
   of (int w)
   {
-    if (w < 2 || w > kMaxWindowPx)
+    if (w < kMinWindowDiscPx || w > kMaxWindowPx)
       return nullptr;
     if (!tried_[w])
     {
