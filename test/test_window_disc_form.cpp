@@ -179,7 +179,7 @@ struct Agreement
   * SD is large, so its Monte Carlo Sigma_P is compared where the normal's SD is below 6 deg.
   */
 Agreement
-agreementOfTheTables (std::uint32_t seed, int outliers)
+agreementOfTheTables (std::uint32_t seed, int outliers, int missing = 0)
 {
   std::mt19937 rng (seed);
   std::uniform_real_distribution<double> uni (0, 1);
@@ -197,6 +197,31 @@ agreementOfTheTables (std::uint32_t seed, int outliers)
     disc.nb.window_fraction = 0.8;
     disc.nb.window_px = w;
     WindowDiscForms<double> forms (disc.du.data (), disc.dv.data (), disc.nb.count);
+    // Pixels without a reading: a run of them in disc order (a hole's edge), or scattered.
+    std::vector<int> offset;
+    if (missing > 0)
+    {
+      std::vector<bool> gone (disc.nb.count, false);
+      const int start = static_cast<int> (uni (rng) * (disc.nb.count - missing));
+      for (int k = 0, marked = 0; marked < missing; ++k)
+      {
+        const int o = trial % 2 ? start + k : static_cast<int> (uni (rng) * disc.nb.count);
+        marked += gone[o] ? 0 : 1;
+        gone[o] = true;
+      }
+      int kept = 0;
+      for (int o = 0; o < disc.nb.count; ++o)
+        if (!gone[o])
+        {
+          disc.x[kept] = disc.x[o]; disc.y[kept] = disc.y[o]; disc.z[kept] = disc.z[o];
+          disc.sigma[kept] = disc.sigma[o]; disc.pixel[kept] = disc.pixel[o];
+          offset.push_back (o);
+          ++kept;
+        }
+      disc.nb.count = kept;
+      disc.nb.disc_offset = offset.data ();
+      EXPECT_EQ (forms.offsetsOf (disc.pixel.data (), kept, 500, 400, 1000, 800)[kept - 1], offset.back ());
+    }
     std::vector<unsigned char> mask (disc.nb.count, 1);
     const int run_start = static_cast<int> (uni (rng) * (disc.nb.count - outliers));
     for (int k = 0, marked = 0; marked < outliers; ++k)
@@ -239,7 +264,7 @@ agreementOfTheTables (std::uint32_t seed, int outliers)
   }
   std::sort (all_n.begin (), all_n.end ());
   r.median_n = all_n[all_n.size () / 2];
-  std::cout << outliers << " outliers: largest relative difference, analytic: Sigma_P " << r.worst_p << ", Sigma_N "
+  std::cout << outliers << " outliers, " << missing << " pixels without a reading: largest relative difference, analytic: Sigma_P " << r.worst_p << ", Sigma_N "
             << r.worst_n << " (median " << r.median_n << "); Monte Carlo: Sigma_P " << r.worst_mc_p << ", Sigma_N "
             << r.worst_mc_n << "\n";
   return r;
@@ -255,15 +280,18 @@ TEST (WindowDiscForm, PropagatedCovariancesAgreeWithTheWindowsSums)
   EXPECT_LT (r.worst_mc_n, 0.08);
 }
 
-TEST (WindowDiscForm, OutliersFilledFromTheTablesAgreeWithTheWindowsSums)
+TEST (WindowDiscForm, GapsFilledFromTheTablesAgreeWithTheWindowsSums)
 {
-  for (const int outliers : {1, 3, 6, 12})
+  // Outliers and pixels without a reading: gaps of the disc that the quadratics' fit fills.
+  for (const auto &c : {std::make_pair (1, 0), std::make_pair (3, 0), std::make_pair (8, 0), std::make_pair (0, 1),
+                        std::make_pair (0, 8), std::make_pair (3, 5)})
   {
-    const Agreement r = agreementOfTheTables (2207 + outliers, outliers);
-    EXPECT_LT (r.worst_p, 0.02) << outliers;
-    EXPECT_LT (r.worst_n, 0.08) << outliers;
-    EXPECT_LT (r.median_n, 0.002) << outliers;
-    EXPECT_LT (r.worst_mc_p, 0.05) << outliers;
-    EXPECT_LT (r.worst_mc_n, 0.08) << outliers;
+    const int outliers = c.first, missing = c.second;
+    const Agreement r = agreementOfTheTables (2207 + outliers + 31 * missing, outliers, missing);
+    EXPECT_LT (r.worst_p, 0.02) << outliers << " " << missing;
+    EXPECT_LT (r.worst_n, 0.08) << outliers << " " << missing;
+    EXPECT_LT (r.median_n, 0.002) << outliers << " " << missing;
+    EXPECT_LT (r.worst_mc_p, 0.05) << outliers << " " << missing;
+    EXPECT_LT (r.worst_mc_n, 0.08) << outliers << " " << missing;
   }
 }

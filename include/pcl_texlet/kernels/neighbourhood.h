@@ -61,9 +61,12 @@ struct Neighbourhood
     * correlate by window_fraction tri(du) tri(dv), tri(d) = max(0, 1 - |d| / window_px). */
   S window_fraction = S (0);
   int window_px = 1; ///< that window's width, whole pixels (1 .. kMaxWindowPx)
-  /** Where every disc pixel has a point, in disc order: the window's form on the whole disc
-    * (window_disc_form.h), used where every point is an inlier; null: by the windows' sums. */
+  /** The window's form of the texlet's disc from tables (window_disc_form.h), where its pixels
+    * without a reading or an inlier are few; null: by the windows' sums. */
   const WindowDiscForm<S> *window_disc = nullptr;
+  /** With window_disc: each point's offset in the disc (in disc order), where some of its pixels
+    * have no reading; null: point k is offset k (the disc is whole). */
+  const int *disc_offset = nullptr;
 
   PCL_TEXLET_HD Vec3<S>
   point (int i) const { return {x[i], y[i], z[i]}; }

@@ -223,12 +223,13 @@ addPcaModelPoints (const Neighbourhood<S> &nb, const unsigned char *mask, const 
 /** \brief The sums of the Gaussian model over every point of \a nb (pcaModelPoint()), four
   * points at a time in SIMD lanes on the host, one at a time on the device. Where \a weights is
   * not null, point k's linear weights (pcaModelWeights()) are also kept at weights[k], for the
-  * window's form (shared_noise.h); where \a disc is (a whole disc's window tables), their
-  * projections on its basis go to \a projection (windowDiscFormOf()).
+  * window's form (shared_noise.h); where \a disc is (the points' rows of a whole disc's window
+  * tables, windowDiscBasisOf()), their projections on its basis go to \a projection
+  * (windowDiscFormOf()).
   */
 template <typename S> PCL_TEXLET_HD void
 pcaModelSumsOf (const Neighbourhood<S> &nb, const unsigned char *mask, const PcaModelBasis<S> &b,
-                PcaModelSums<S> &sums, S (*weights)[9], const WindowDiscForm<S> *disc = nullptr,
+                PcaModelSums<S> &sums, S (*weights)[9], const S (*disc)[kWindowDiscBasis][4] = nullptr,
                 S (*projection)[9] = nullptr)
 {
 #if defined(__GNUC__) && !defined(__CUDACC__)
@@ -274,7 +275,7 @@ pcaModelSumsOf (const Neighbourhood<S> &nb, const unsigned char *mask, const Pca
         for (int c = 0; c < kWindowDiscBasis; ++c)
         {
           Lane t;
-          std::memcpy (&t, disc->lanes[k >> 2][c], sizeof t);
+          std::memcpy (&t, disc[k >> 2][c], sizeof t);
           PCL_TEXLET_UNROLL_LOOP
           for (int j = 0; j < 9; ++j)
             lw[c][j] += t * w[j];
@@ -308,7 +309,7 @@ pcaModelSumsOf (const Neighbourhood<S> &nb, const unsigned char *mask, const Pca
           weights[k][j] = w[j];
         if (disc)
           for (int c = 0; c < kWindowDiscBasis; ++c)
-            projection[c][j] += disc->at (k, c) * w[j];
+            projection[c][j] += disc[k >> 2][c][k & 3] * w[j];
       }
     }
   }

@@ -335,8 +335,17 @@ frameTexlet (const Frame &frame, const FrameSettings<S> &fs, int cu, int cv, con
   const CentreNoise noise = frame.centreNoise (cu, cv, zsum / count);
   discSharedNoise (noise, ws.pixel, frame.width (), nb);
 #if !defined(__CUDA_ARCH__)
-  if (fs.window_disc_forms && count == fs.disc.size && nb.window_fraction > S (0))
+  // The window's form from tables where the disc misses few pixels (window_disc_form.h).
+  if (fs.window_disc_forms && nb.window_fraction > S (0) && count + kMaxWindowDiscGaps >= fs.disc.size)
+  {
     nb.window_disc = fs.window_disc_forms->of (nb.window_px);
+    if (nb.window_disc && count < fs.disc.size)
+    {
+      nb.disc_offset = fs.window_disc_forms->offsetsOf (ws.pixel, count, cu, cv, frame.width (), frame.height ());
+      if (!nb.disc_offset)
+        nb.window_disc = nullptr;
+    }
+  }
 #endif
   TexletSettings<S> st = fs.kernel;
   st.threshold = ransacThreshold (fs, noise, nb);

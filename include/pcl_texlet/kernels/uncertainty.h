@@ -103,7 +103,7 @@ struct JacobianRows
   S (*rows)[6] = nullptr;
   bool by_line = false;
   int first_line = 0;
-  const WindowDiscForm<S> *disc = nullptr;
+  const S (*disc)[kWindowDiscBasis][4] = nullptr; ///< the points' basis rows (WindowDiscForm::lanes, or gathered)
   S (*projection)[6] = nullptr;
   int lo = 0, hi = 6;
 
@@ -158,7 +158,7 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
       for (int a = 0; a < kWindowDiscBasis; ++a)
       {
         Lane b;
-        std::memcpy (&b, out.disc->lanes[k >> 2][a], sizeof b);
+        std::memcpy (&b, out.disc[k >> 2][a], sizeof b);
         if (ray_block)
         {
           PCL_TEXLET_UNROLL_LOOP
@@ -204,7 +204,7 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
     if (out.disc)
       for (int a = 0; a < kWindowDiscBasis; ++a)
         for (int j = out.lo; j < out.hi; ++j)
-          out.projection[a][j] += out.disc->at (k, a) * G[j];
+          out.projection[a][j] += out.disc[k >> 2][a][k & 3] * G[j];
   }
 }
 
@@ -271,8 +271,9 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   bool window_resolved = false;
   const LineSpan columns = sharedLines (nb);
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
-  // A whole disc takes its window form from the tables (window_disc_form.h), without the points'
-  // pixels; its outliers, at most kMaxWindowDiscGaps, are gaps the tables fill.
+  // A disc with tables takes its window form from them (window_disc_form.h), without the points'
+  // pixels; its pixels without a reading or an inlier, at most kMaxWindowDiscGaps, are gaps the
+  // tables fill.
   int gap[kMaxWindowDiscGaps];
   const int gaps = windowDiscGaps (nb, mask, gap);
   const bool by_tables = gaps >= 0 && window > S (0);
@@ -292,7 +293,8 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     S G[kMaxSharedLines][6] = {};
     S projection[kWindowDiscBasis][6] = {};
     JacobianRows<S> rows;
-    rows.disc = nb.window_disc;
+    S gathered[(kMaxWindowPoints + 3) / 4][kWindowDiscBasis][4];
+    rows.disc = windowDiscBasisOf (nb, gathered);
     rows.projection = projection;
     rows.lo = form_lo;
     rows.hi = form_hi;
@@ -731,7 +733,8 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   S window_ww[45];
   bool windowed = false;
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
-  // A whole disc takes its window form from the tables (window_disc_form.h), its outliers gaps.
+  // A disc with tables takes its window form from them (window_disc_form.h), its pixels without a
+  // reading or an inlier gaps.
   int gap[kMaxWindowDiscGaps];
   const int gaps = windowDiscGaps (nb, mask, gap);
   const bool by_tables = gaps >= 0 && nb.window_fraction > S (0);
@@ -740,7 +743,9 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   if (by_tables)
   {
     S projection[kWindowDiscBasis][9];
-    pcaModelSumsOf (nb, mask, basis, sums, static_cast<S (*)[9]> (nullptr), nb.window_disc, projection);
+    S gathered[(kMaxWindowPoints + 3) / 4][kWindowDiscBasis][4];
+    pcaModelSumsOf (nb, mask, basis, sums, static_cast<S (*)[9]> (nullptr), windowDiscBasisOf (nb, gathered),
+                    projection);
     windowDiscFormOf<S, 9> (projection, 0, 9, *nb.window_disc, gap, gaps, window_ww);
     windowed = true;
   }

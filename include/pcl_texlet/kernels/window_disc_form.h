@@ -22,6 +22,7 @@
 
 #include <cmath>
 #include <memory>
+#include <vector>
 
 namespace pcl
 {
@@ -59,7 +60,7 @@ struct WindowDiscForm
 };
 
 /** \brief Most disc offsets without an inlier (no reading, or an outlier) that windowDiscGapForm() fills. */
-constexpr int kMaxWindowDiscGaps = 12;
+constexpr int kMaxWindowDiscGaps = 8;
 
 /** \brief Makes \a form for the disc of \a size offsets \a du, \a dv and a window of \a w
   * pixels. \return false (and \a form unusable) where the disc is too small or too large for the
@@ -147,24 +148,51 @@ makeWindowDiscForm (const int *du, const int *dv, int size, int w, WindowDiscFor
   return true;
 }
 
-/** \brief The gaps of a whole disc's tables (Neighbourhood::window_disc; its points in disc order):
-  * the offsets of its outliers (mask 0) into \a gap. \return how many, or -1 where the disc has
-  * no tables or more than kMaxWindowDiscGaps outliers.
+/** \brief The gaps of a disc in its window tables (Neighbourhood::window_disc): the offsets
+  * without a reading (Neighbourhood::disc_offset) or with an outlier (mask 0) into \a gap.
+  * \return how many, or -1 where the disc has no tables or more than kMaxWindowDiscGaps gaps.
   */
 template <typename S> PCL_TEXLET_HD int
 windowDiscGaps (const Neighbourhood<S> &nb, const unsigned char *mask, int gap[kMaxWindowDiscGaps])
 {
-  if (!nb.window_disc || nb.count != nb.window_disc->size)
+  if (!nb.window_disc)
+    return -1;
+  const int size = nb.window_disc->size;
+  if (!nb.disc_offset && nb.count != size)
     return -1;
   int gaps = 0;
-  for (int k = 0; k < nb.count; ++k)
-    if (!mask[k])
+  for (int o = 0, k = 0; o < size; ++o)
+  {
+    const bool present = nb.disc_offset ? k < nb.count && nb.disc_offset[k] == o : true;
+    if (!present || !mask[k])
     {
       if (gaps == kMaxWindowDiscGaps)
         return -1;
-      gap[gaps++] = k;
+      gap[gaps++] = o;
     }
+    k += present ? 1 : 0;
+  }
   return gaps;
+}
+
+/** \brief The points' rows of the basis of \a nb's window tables, four points to a lane group:
+  * the tables' own where the disc is whole, else gathered into \a gathered by
+  * Neighbourhood::disc_offset (zero beyond the points).
+  */
+template <typename S> PCL_TEXLET_HD const S (*windowDiscBasisOf (const Neighbourhood<S> &nb,
+                                                                 S (*gathered)[kWindowDiscBasis][4]))[kWindowDiscBasis][4]
+{
+  if (!nb.disc_offset)
+    return nb.window_disc->lanes;
+  const int groups = (nb.count + 3) / 4;
+  for (int g = 0; g < groups; ++g)
+    for (int a = 0; a < kWindowDiscBasis; ++a)
+      for (int l = 0; l < 4; ++l)
+      {
+        const int k = 4 * g + l;
+        gathered[g][a][l] = k < nb.count ? nb.window_disc->at (nb.disc_offset[k], a) : S (0);
+      }
+  return gathered;
 }
 
 /** \brief windowForm()'s block \a lo .. \a hi - 1 of \a out for a whole disc, from its points'
@@ -297,14 +325,33 @@ windowDiscForm (const S (*G)[D], const WindowDiscForm<S> &form, S out[D * (D + 1
 }
 
 /** \brief The whole-disc window forms of one disc, one per window width, made when first asked
-  * for (host only; one per worker thread, so never shared).
+  * for, and each texlet's map of its points to the disc's offsets (host only; one per worker
+  * thread, so never shared).
   */
 template <typename S>
 class WindowDiscForms
 {
 public:
   /** \param du, dv the disc's offsets in disc order, kept by reference */
-  WindowDiscForms (const int *du, const int *dv, int size) : du_ (du), dv_ (dv), size_ (size) {}
+  WindowDiscForms (const int *du, const int *dv, int size) : du_ (du), dv_ (dv), size_ (size), offset_ (size) {}
+
+  /** \brief The disc offset of each of \a count points of pixels \a pixel (v * width + u, in
+    * disc order) of the disc around (cu, cv) in a frame of \a width x \a height, kept until the
+    * next call; null where they are not the disc's pixels in disc order.
+    */
+  const int *
+  offsetsOf (const int *pixel, int count, int cu, int cv, int width, int height)
+  {
+    int k = 0;
+    for (int o = 0; o < size_ && k < count; ++o)
+    {
+      const int u = cu + du_[o], v = cv + dv_[o];
+      if (u < 0 || v < 0 || u >= width || v >= height || pixel[k] != v * width + u)
+        continue;
+      offset_[k++] = o;
+    }
+    return k == count ? offset_.data () : nullptr;
+  }
 
   /** \brief The form for a window of \a w pixels (1 .. kMaxWindowPx), or null where none is made
     * (below kMinWindowDiscPx, or a disc too small for the quadratics). */
@@ -326,6 +373,7 @@ public:
 private:
   const int *du_, *dv_;
   int size_;
+  std::vector<int> offset_;
   bool tried_[kMaxWindowPx + 1] = {};
   std::unique_ptr<WindowDiscForm<S>> forms_[kMaxWindowPx + 1];
 };
