@@ -138,7 +138,7 @@ TEST_F (ExtractApp, TheModelsBiasComesOffUnlessKept)
 TEST_F (ExtractApp, ExactWindowFormAgreesWithTheTables)
 {
   // A model with noise shared over a 9 px window: --exact-window-form forms every texlet's window
-  // part by the windows' sums, the default takes whole discs of inliers from tables; the texlets
+  // part by the windows' sums, the default takes discs missing few readings from tables; the texlets
   // are the same but for their covariances, within a few percent (docs/benchmarks.md).
   const fs::path rec = makeRecording (1);
   const fs::path model = dir_ / "window.yaml";

@@ -95,7 +95,7 @@ run (int argc, char **argv)
   app.add_option ("--noise-model", o.noise_model,
                   "the texlets' depth noise model YAML (e.g. pcl_texlet_lab's model.yaml; default: the paper's Eq. 4)");
   app.add_flag ("--exact-window-form", o.setup.exact_window_form,
-                "form every texlet's window-shared noise by the windows' sums (default: whole discs from tables)");
+                "form every texlet's window-shared noise by the windows' sums (default: discs from tables)");
   app.add_option ("--json", o.json_path, "write every figure measured to this JSON file");
   app.add_option ("--data-dir", o.data_dir, "write gnuplot data files (timing, fig8, scaling) into this folder");
   app.add_flag ("-q,--quiet", o.quiet, "no progress lines");

@@ -388,7 +388,7 @@ run (int argc, char **argv)
                 "term of the model moves the mean)");
   app.add_flag ("--exact-window-form", o.params.exact_window_form,
                 "form every texlet's noise shared over a window (spatial_correlation) by the windows' sums (default: "
-                "a whole disc of inliers from tables, within about a percent; docs/benchmarks.md)");
+                "discs missing few readings or inliers from tables; docs/benchmarks.md)");
   app.add_option ("--camera", o.intrinsics, "pinhole intrinsics fx fy cx cy, pixels (default: the recording's, "
                                             "or estimated from each PCD cloud)")
       ->expected (4);

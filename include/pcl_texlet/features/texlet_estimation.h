@@ -162,10 +162,11 @@ public:
   getRemoveModelBias () const { return params_.remove_model_bias; }
 
   /** \brief Whether the covariances of noise shared over a window (a `spatial_correlation`
-    * term) are formed exactly for every texlet (default false): otherwise a texlet whose disc
-    * pixels all have readings and are all inliers takes the window's form from tables made once
-    * per window width, on the quadratics of the pixel offset, 3 to 5 times cheaper and within
-    * about a percent (docs/benchmarks.md).
+    * term) are formed by the windows' sums for every texlet (default false): otherwise a texlet
+    * whose disc misses at most 8 readings or inliers, under a window of 6 px or more, takes the
+    * window's form from tables made once per window width, on the quadratics of the pixel
+    * offset: within 0.1 % of the sums at the median and a few percent at worst
+    * (docs/benchmarks.md, "Discs from tables").
     */
   void
   setExactWindowForm (bool exact) { params_.exact_window_form = exact; }

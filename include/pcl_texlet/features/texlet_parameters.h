@@ -32,8 +32,9 @@ struct TexletParameters
   std::uint32_t seed = 0;          ///< Philox key: results depend on (seed, texlet, draw) only
   int min_support = 6;             ///< fewest RANSAC inliers that make a texlet (>= 3)
   bool remove_model_bias = true;   ///< take the noise model's bias off each reading's depth first
-  /** the window-shared noise's form by the windows' sums for every texlet; false: a whole disc
-    * of inliers takes it from tables made once (window_disc_form.h, its error in docs/benchmarks.md) */
+  /** the window-shared noise's form by the windows' sums for every texlet; false: a disc missing
+    * few readings or inliers takes it from tables made once (window_disc_form.h, its error in
+    * docs/benchmarks.md) */
   bool exact_window_form = false;
   float viewpoint[3] = {0.0f, 0.0f, 0.0f}; ///< normals face this point (pcl::TexletEstimation:
                                            ///< unless it uses the cloud's sensor origin)

@@ -52,8 +52,8 @@ struct FrameSettings
   int ring_du[7] = {0, 0, 0, 0, 0, 0, 0}; ///< the ring of normal averaging (hexRingOffsets())
   int ring_dv[7] = {0, 0, 0, 0, 0, 0, 0};
   bool need_sigma = true;          ///< per-point depth SDs, for an uncertainty
-  /** Host only: the disc's window forms for texlets whose disc is whole (null: every texlet's
-    * window form by the windows' sums). */
+  /** Host only: the disc's window tables, for texlets whose disc misses few pixels (null: every
+    * texlet's window form by the windows' sums). */
   WindowDiscForms<S> *window_disc_forms = nullptr;
 };
 

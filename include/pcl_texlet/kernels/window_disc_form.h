@@ -11,8 +11,8 @@
  * points), and R = r' K r >= 0 for the part r of G that no quadratic holds (K-orthogonal to
  * them), second order in it and left out: an under-estimate, largest where the window is narrow
  * against the noise in the Jacobians, so the tables serve windows of kMinWindowDiscPx and more.
- * Outliers are gaps that the quadratics' fit fills (windowDiscFormOf()). Its error:
- * docs/benchmarks.md.
+ * Outliers and pixels without a reading, up to kMaxWindowDiscGaps, are gaps that the quadratics'
+ * fit fills (windowDiscFormOf()). Its error: docs/benchmarks.md, "Discs from tables".
  */
 #pragma once
 
