@@ -138,7 +138,7 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
   scalar_from = nb.count & ~3;
   for (int k = 0; k < scalar_from; k += 4)
   {
-    Lane px, py, pz, sd, use, G[6];
+    Lane px, py, pz, sd, use, G[6] = {}; // G is set only where the noise is shared
     std::memcpy (&px, nb.x + k, sizeof px);
     std::memcpy (&py, nb.y + k, sizeof py);
     std::memcpy (&pz, nb.z + k, sizeof pz);
@@ -191,7 +191,7 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
 #endif
   for (int k = scalar_from; k < nb.count; ++k) // the lanes' remainder; every point on the device
   {
-    S G[6];
+    S G[6] = {};
     const int i = k & 3;
     addAnalyticPlaneTerms (nb.x[k], nb.y[k], nb.z[k], nb.sigma[k], mask[k] ? S (1) : S (0), fit, f, shared, cp[i],
                            cn[i], ct[i], cs[i], G);
@@ -285,39 +285,20 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
 #endif
   // (r, j1, j2, a): the normal needs j1, j2; P on the centre ray a, else r.
   const int form_lo = centre.on ? 3 : 0, form_hi = centre.on ? 6 : 5;
+  JacobianRows<S> rows; // where the points' SD-weighted Jacobians go besides the sums
+#if !defined(__CUDA_ARCH__)
+  // With tables, they are projected on the tables' basis as they are summed.
+  S projection[kWindowDiscBasis][6] = {};
+  S gathered[(kMaxWindowPoints + 3) / 4][kWindowDiscBasis][4];
   if (by_tables)
   {
-#if !defined(__CUDA_ARCH__)
-    // The points' SD-weighted Jacobians projected on the tables' basis as they are summed; the
-    // lines' part by line, as without a window.
-    S G[kMaxSharedLines][6] = {};
-    S projection[kWindowDiscBasis][6] = {};
-    JacobianRows<S> rows;
-    S gathered[(kMaxWindowPoints + 3) / 4][kWindowDiscBasis][4];
     rows.disc = windowDiscBasisOf (nb, gathered);
     rows.projection = projection;
     rows.lo = form_lo;
     rows.hi = form_hi;
-    if (columns.count > 0)
-    {
-      rows.rows = G;
-      rows.by_line = true;
-      rows.first_line = columns.first;
-    }
-    analyticPlaneTermsOfAll (nb, mask, fit, f, cp, cn, ct, cs, rows);
-    if (columns.count > 0)
-      lineForm<S, 6> (G, columns.count, nb.line_correlation, form);
-    else if (rho > S (0)) // the patch shares it whole
-    {
-      for (int j = 0; j < 6; ++j)
-        G[0][j] = (cs[0][j] + cs[1][j]) + (cs[2][j] + cs[3][j]);
-      lineForm<S, 6> (G, 1, S (1), form);
-    }
-    windowDiscFormOf<S, 6> (projection, form_lo, form_hi, *nb.window_disc, gap, gaps, window_form);
-    window_resolved = true;
-#endif
   }
-  else if (box.on)
+#endif
+  if (box.on)
   {
 #if !defined(__CUDA_ARCH__)
     // Every point's SD-weighted Jacobians kept, for the window's pairs (shared_noise.h).
@@ -325,7 +306,6 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
     for (int k = 0; k < nb.count; ++k)
       for (int j = 0; j < 6; ++j)
         Gp[k][j] = S (0);
-    JacobianRows<S> rows;
     rows.rows = Gp;
     analyticPlaneTermsOfAll (nb, mask, fit, f, cp, cn, ct, cs, rows);
     if (rho > S (0))
@@ -348,17 +328,16 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   {
 #if !defined(__CUDA_ARCH__) // the device's noise is never shared (gpu/frame_texlet.h)
     S G[kMaxSharedLines][6] = {};
-    JacobianRows<S> lines;
-    lines.rows = G;
-    lines.by_line = true;
-    lines.first_line = columns.first;
-    analyticPlaneTermsOfAll (nb, mask, fit, f, cp, cn, ct, cs, lines);
+    rows.rows = G;
+    rows.by_line = true;
+    rows.first_line = columns.first;
+    analyticPlaneTermsOfAll (nb, mask, fit, f, cp, cn, ct, cs, rows);
     lineForm<S, 6> (G, columns.count, nb.line_correlation, form);
 #endif
   }
   else
   {
-    analyticPlaneTermsOfAll (nb, mask, fit, f, cp, cn, ct, cs, JacobianRows<S> ());
+    analyticPlaneTermsOfAll (nb, mask, fit, f, cp, cn, ct, cs, rows);
     if (rho > S (0)) // the patch shares it whole
     {
       S G[1][6];
@@ -367,6 +346,13 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       lineForm<S, 6> (G, 1, S (1), form);
     }
   }
+#if !defined(__CUDA_ARCH__)
+  if (by_tables)
+  {
+    windowDiscFormOf<S, 6> (projection, form_lo, form_hi, *nb.window_disc, gap, gaps, window_form);
+    window_resolved = true;
+  }
+#endif
   const S *wf = window_resolved ? window_form : nullptr;
   const S inflation = windowInflation (nb);
   const bool shared = rho > S (0) || window > S (0);
