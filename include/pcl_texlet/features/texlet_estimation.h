@@ -165,8 +165,7 @@ public:
     * term) are formed by the windows' sums for every texlet (default false): otherwise a texlet
     * whose disc misses at most 8 readings or inliers, under a window of 6 px or more, takes the
     * window's form from tables made once per window width, on the quadratics of the pixel
-    * offset: within 0.1 % of the sums at the median and a few percent at worst
-    * (docs/benchmarks.md, "Discs from tables").
+    * offset (its error against the sums: docs/benchmarks.md, "Discs from tables").
     */
   void
   setExactWindowForm (bool exact) { params_.exact_window_form = exact; }
