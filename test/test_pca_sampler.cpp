@@ -291,6 +291,77 @@ TEST (SmallestEigen3, NewtonStepsEqualTheClosedFormSolve)
   EXPECT_FALSE (smallestEigen3NearFirstAxis (nan, e));
 }
 
+TEST (PcaSampler, RefitsInLanesAreTheRefitsOneByOne)
+{
+  // Four samples' re-fits at once (the host kernel's lanes) against pcaSampleRefitMoments() one
+  // at a time, bit for bit, with lanes that converge, lanes the Newton steps decline (they go
+  // to the full solves), collinear and non-finite lanes mixed.
+  typedef double Lane __attribute__ ((vector_size (4 * sizeof (double))));
+  std::mt19937 rng (31);
+  std::normal_distribution<double> g (0, 1);
+  PcaSampleModel<double> md;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd (0.4, Eigen::Vector3d (0.3, -1, 0.5).normalized ()).toRotationMatrix ();
+  for (int i = 0; i < 3; ++i)
+    md.axes[i] = make3 (R (0, i), R (1, i), R (2, i));
+  md.n0 = make3 (0.99, 0.1, -0.05);
+  md.t1 = make3 (-0.1, 0.99, 0.0);
+  md.t2 = make3 (0.05, 0.0, 0.99);
+  int fast = 0, declined = 0, collinear = 0;
+  for (int trial = 0; trial < 4000; ++trial)
+  {
+    Lane m[3], c[6];
+    for (int l = 0; l < 4; ++l)
+    {
+      const int kind = (trial + l) % 16;
+      Eigen::Vector3d ev (1e-6 * std::exp (g (rng)), 3e-5 * std::exp (0.3 * g (rng)), 4e-5 * std::exp (0.3 * g (rng)));
+      if (kind == 3)
+        std::swap (ev (0), ev (1)); // the smallest is not near the first axis
+      if (kind == 7)
+        ev.head<2> () = Eigen::Vector2d (1e-20, 1e-19); // collinear points
+      const double size = kind == 5 ? 2e-5 : kind == 7 ? 1e-22 : 3e-7;
+      Eigen::Matrix3d E = size * Eigen::Matrix3d::NullaryExpr ([&] () { return g (rng); });
+      const Eigen::Matrix3d B = Eigen::Matrix3d (ev.asDiagonal ()) + E + E.transpose ();
+      const double b[6] = {B (0, 0), B (0, 1), B (0, 2), B (1, 1), B (1, 2), B (2, 2)};
+      for (int k = 0; k < 6; ++k)
+        c[k][l] = kind == 11 && k == 4 ? NAN : b[k];
+      for (int k = 0; k < 3; ++k)
+        m[k][l] = 1e-3 * g (rng);
+    }
+    Lane dP[3], a1, a2;
+    int keep;
+    const int done = pcaSampleRefitLanes (md, m, c, dP, a1, a2, keep);
+    for (int l = 0; l < 4; ++l)
+    {
+      const double ml[3] = {m[0][l], m[1][l], m[2][l]};
+      const double cl[6] = {c[0][l], c[1][l], c[2][l], c[3][l], c[4][l], c[5][l]};
+      SmallestEigen3<double> e;
+      const bool newton = smallestEigen3NearFirstAxis (cl, e);
+      EXPECT_EQ (newton, (done >> l & 1) != 0) << "trial " << trial << " lane " << l;
+      if (!newton)
+      {
+        ++declined;
+        continue;
+      }
+      ++fast;
+      Vec3<double> one_dP;
+      double one_a1, one_a2;
+      const bool plane = pcaSampleRefitMoments (md, ml, cl, one_dP, one_a1, one_a2);
+      ASSERT_EQ (plane, (keep >> l & 1) != 0) << "trial " << trial << " lane " << l;
+      collinear += !plane;
+      if (!plane)
+        continue;
+      EXPECT_EQ (one_dP.x, dP[0][l]);
+      EXPECT_EQ (one_dP.y, dP[1][l]);
+      EXPECT_EQ (one_dP.z, dP[2][l]);
+      EXPECT_EQ (one_a1, a1[l]);
+      EXPECT_EQ (one_a2, a2[l]);
+    }
+  }
+  EXPECT_GT (fast, 10000);
+  EXPECT_GT (declined, 1000); // swapped, non-finite and the large perturbations
+  EXPECT_GT (collinear, 500);
+}
+
 TEST (PcaSampler, FactorsReproduceTheModelCovariancesOfThePoints)
 {
   std::mt19937 rng (8);

@@ -557,6 +557,79 @@ pcaSampleRefitMoments (const PcaSampleModel<S> &md, const S m[3], const S c[6], 
   return true;
 }
 
+#if defined(__GNUC__) && !defined(__CUDACC__)
+/** \brief std::sqrt of each lane of a GCC vector of four S, in place (otherEigenvaluesOf() in
+  * lanes). */
+template <typename Lane>
+struct LaneSqrt
+{
+  void
+  operator() (Lane &v) const
+  {
+    for (int i = 0; i < 4; ++i)
+      v[i] = std::sqrt (v[i]);
+  }
+};
+
+/** \brief pcaSampleRefitMoments() of four samples at once, one a lane of \a m and \a c (\a Lane:
+  * a GCC vector of four S): smallestEigen3NearFirstAxis()'s Newton steps and the rest of the
+  * re-fit with the same arithmetic, lane by lane. A lane whose steps fail there is left to
+  * pcaSampleRefitMoments(), which goes on to the full eigen solves.
+  * \return bit l set where lane l's steps converged; of those, bit l of \a keep is set where its
+  * sample has a plane (\a dP, \a a1, \a a2 in lane l) and clear where its points are collinear.
+  */
+template <typename S, typename Lane> inline int
+pcaSampleRefitLanes (const PcaSampleModel<S> &md, const Lane m[3], const Lane c[6], Lane dP[3], Lane &a1, Lane &a2,
+                     int &keep)
+{
+  const Lane scale = (c[3] < S (0) ? -c[3] : c[3]) + (c[5] < S (0) ? -c[5] : c[5]);
+  const Lane tol = S (4) * machineEpsilon<S> () * scale;
+  typedef decltype (scale < tol) Mask; // all ones in a lane where true
+  Mask active = (scale > S (0)) & (scale < S (INFINITY)), converged = Mask {};
+  Lane l = c[0], x = Lane {}, y = Lane {};
+  for (int step = 0; step < 8; ++step)
+  {
+    bool any = false;
+    for (int i = 0; i < 4; ++i)
+      any = any || active[i] != 0;
+    if (!any)
+      break;
+    Lane a11, det, sx, sy, dl;
+    nearFirstAxisNewtonStep<S> (c, l, a11, det, sx, sy, dl);
+    const Mask step_on = active & (a11 > S (0)) & (det > S (0)); // off: l not below the trailing block's
+    l = step_on ? l + dl : l;
+    x = step_on ? sx : x;
+    y = step_on ? sy : y;
+    const Mask done = step_on & ((dl < S (0) ? -dl : dl) <= tol);
+    converged |= done;
+    active = step_on & ~done;
+  }
+  Lane norm = S (1) + x * x + y * y;
+  LaneSqrt<Lane> () (norm);
+  const Lane inv_norm = S (1) / norm;
+  Lane v[3] = {inv_norm, x * inv_norm, y * inv_norm};
+  Lane l1, l2;
+  otherEigenvaluesOf<S> (c, l, LaneSqrt<Lane> (), l1, l2);
+  const Mask plane = converged & (l1 > collinearityLimit<S> () * l2);
+  const Mask flip = v[0] * md.n0.x + v[1] * md.n0.y + v[2] * md.n0.z < S (0);
+  for (int k = 0; k < 3; ++k)
+    v[k] = flip ? -v[k] : v[k];
+  a1 = v[0] * md.t1.x + v[1] * md.t1.y + v[2] * md.t1.z;
+  a2 = v[0] * md.t2.x + v[1] * md.t2.y + v[2] * md.t2.z;
+  dP[0] = m[0] * md.axes[0].x + m[1] * md.axes[1].x + m[2] * md.axes[2].x;
+  dP[1] = m[0] * md.axes[0].y + m[1] * md.axes[1].y + m[2] * md.axes[2].y;
+  dP[2] = m[0] * md.axes[0].z + m[1] * md.axes[1].z + m[2] * md.axes[2].z;
+  int bits = 0;
+  keep = 0;
+  for (int i = 0; i < 4; ++i)
+  {
+    bits |= converged[i] != 0 ? 1 << i : 0;
+    keep |= plane[i] != 0 ? 1 << i : 0;
+  }
+  return bits;
+}
+#endif
+
 /** \brief One sample from its normals \a z (pcaSampleNormals()): moments and re-fit. */
 template <typename S> PCL_TEXLET_HD bool
 pcaSampleRefit (const PcaSampleModel<S> &md, const S z[kPcaSampleNormals], Vec3<S> &dP, S &a1, S &a2)

@@ -223,6 +223,59 @@ struct SmallestEigen3
   * found is not below both eigenvalues of the trailing 2x2 block (then, by interlacing, it
   * need not be the smallest): then use symmetricEigen3Near() or symmetricEigen3().
   */
+/** \brief One Newton step of smallestEigen3NearFirstAxis() at the trial eigenvalue \a l: the
+  * eigenvector's (x, y) for l, the step \a dl, and a11, det, both positive where l is below the
+  * trailing 2x2 block's eigenvalues. \a V is the scalar \a S or a SIMD lane of them (four samples'
+  * re-fits at once, pca_sampler.h), so both take the same arithmetic.
+  */
+template <typename S, typename V> PCL_TEXLET_HD void
+nearFirstAxisNewtonStep (const V b[6], const V &l, V &a11, V &det, V &x, V &y, V &dl)
+{
+  a11 = b[3] - l;
+  const V a22 = b[5] - l, a12 = b[4];
+  det = a11 * a22 - a12 * a12;
+  const V inv = S (1) / det;
+  x = (a12 * b[2] - a22 * b[1]) * inv;
+  y = (a12 * b[1] - a11 * b[2]) * inv;
+  const V g = b[0] + b[1] * x + b[2] * y;
+  dl = (g - l) / (S (1) + x * x + y * y);
+}
+
+/** \brief std::sqrt in place, as a function object (otherEigenvaluesOf() of a scalar). */
+template <typename S>
+struct ScalarSqrt
+{
+  PCL_TEXLET_HD void operator() (S &v) const { v = std::sqrt (v); }
+};
+
+/** \brief The two larger eigenvalues of \a b (ascending, \a l1 <= \a l2) from its smallest \a l:
+  * l1 + l2 = trace - l, l1 l2 = (sum of the principal 2x2 minors) - l (l1 + l2). \a sqrt_of
+  * takes the square root of a V in place. */
+template <typename S, typename V, typename Sqrt> PCL_TEXLET_HD void
+otherEigenvaluesOf (const V b[6], const V &l, Sqrt sqrt_of, V &l1, V &l2)
+{
+  const V sum = b[0] + b[3] + b[5] - l;
+  const V minors = b[0] * b[3] - b[1] * b[1] + b[0] * b[5] - b[2] * b[2] + b[3] * b[5] - b[4] * b[4];
+  const V prod = minors - l * sum;
+  const V disc = sum * sum - S (4) * prod;
+  V root = disc > S (0) ? disc : V {};
+  sqrt_of (root);
+  l2 = S (0.5) * (sum + root);
+  l1 = l2 > S (0) ? prod / l2 : sum - l2; // no cancellation when l1 << l2
+}
+
+/** \brief Smallest eigenpair of a packed symmetric 3x3 matrix \a b (00 01 02 11 12 22) that is
+  * nearly diagonal with its smallest eigenvalue near b00, e.g. a perturbed covariance written
+  * in the eigenbasis of the unperturbed one, smallest axis first. The eigenvector is taken as
+  * v = (1, x, y): for a trial eigenvalue l, rows 1 and 2 of (B - l I) v = 0 give (x, y) by a
+  * 2x2 solve, row 0 gives g(l) = b00 + b01 x + b02 y, and Newton's method on l - g(l) = 0
+  * (derivative 1 + x^2 + y^2) converges quadratically from l = b00: a few steps of about 20
+  * flops where a Jacobi sweep costs over a hundred, with no trigonometric function. The other
+  * two eigenvalues follow from the trace and the sum of the principal 2x2 minors.
+  * \return false if 8 steps did not converge, or the matrix is non-finite, or the eigenvalue
+  * found is not below both eigenvalues of the trailing 2x2 block (then, by interlacing, it
+  * need not be the smallest): then use symmetricEigen3Near() or symmetricEigen3().
+  */
 template <typename S> PCL_TEXLET_HD bool
 smallestEigen3NearFirstAxis (const S b[6], SmallestEigen3<S> &out)
 {
@@ -234,15 +287,10 @@ smallestEigen3NearFirstAxis (const S b[6], SmallestEigen3<S> &out)
   bool converged = false;
   for (int step = 0; step < 8 && !converged; ++step)
   {
-    const S a11 = b[3] - l, a22 = b[5] - l, a12 = b[4];
-    const S det = a11 * a22 - a12 * a12;
+    S a11, det, dl;
+    nearFirstAxisNewtonStep<S> (b, l, a11, det, x, y, dl);
     if (!(a11 > S (0)) || !(det > S (0)))
       return false; // l is not below the trailing block's eigenvalues
-    const S inv = S (1) / det;
-    x = (a12 * b[2] - a22 * b[1]) * inv;
-    y = (a12 * b[1] - a11 * b[2]) * inv;
-    const S g = b[0] + b[1] * x + b[2] * y;
-    const S dl = (g - l) / (S (1) + x * x + y * y);
     l += dl;
     converged = std::fabs (dl) <= tol;
   }
@@ -252,15 +300,8 @@ smallestEigen3NearFirstAxis (const S b[6], SmallestEigen3<S> &out)
   // the converged l's by about tol |(x, y)| / gap, far below rounding.
   const S inv_norm = S (1) / std::sqrt (S (1) + x * x + y * y);
   out.vector = make3 (inv_norm, x * inv_norm, y * inv_norm);
-  // l1 + l2 = trace - l0, l1 l2 = (sum of principal 2x2 minors) - l0 (l1 + l2).
-  const S sum = b[0] + b[3] + b[5] - l;
-  const S minors = b[0] * b[3] - b[1] * b[1] + b[0] * b[5] - b[2] * b[2] + b[3] * b[5] - b[4] * b[4];
-  const S prod = minors - l * sum;
-  const S disc = sum * sum - S (4) * prod;
-  const S l2 = S (0.5) * (sum + std::sqrt (disc > S (0) ? disc : S (0)));
   out.values[0] = l;
-  out.values[2] = l2;
-  out.values[1] = l2 > S (0) ? prod / l2 : sum - l2; // no cancellation when l1 << l2
+  otherEigenvaluesOf<S> (b, l, ScalarSqrt<S> (), out.values[1], out.values[2]);
   return true;
 }
 

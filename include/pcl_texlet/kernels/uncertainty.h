@@ -280,7 +280,7 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
   int pu[kMaxWindowPoints], pv[kMaxWindowPoints];
   const WindowBox box = by_tables ? WindowBox () : windowBox (nb, pu, pv);
 #else
-  const bool by_tables = false;
+  [[maybe_unused]] const bool by_tables = false;
   const WindowBox box = WindowBox ();
 #endif
   // (r, j1, j2, a): the normal needs j1, j2; P on the centre ray a, else r.
@@ -782,7 +782,8 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       normalSamples (seed, texlet, kSharedNoiseBlock + static_cast<std::uint32_t> (b), first, ndraw, words, es[4 * b],
                      es[4 * b + 1], es[4 * b + 2], es[4 * b + 3]);
 #if defined(__GNUC__)
-    // Moments of four samples at a time, one a lane; the re-fits one by one.
+    // Moments and re-fits of four samples at a time, one a lane; a lane whose fast re-fit fails
+    // alone.
     typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
     for (int i = 0; i < ns; i += 4)
     {
@@ -794,8 +795,17 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       for (int x = 0; x < cols.count; ++x)
         std::memcpy (&el[x], es[x] + i, sizeof (Lane));
       pcaSharedNoiseSampleMoments (md, cols, line_a, zl, el, ml, cl);
+      Lane dPl[3], a1l, a2l;
+      int keep;
+      const int fast = pcaSampleRefitLanes (md, ml, cl, dPl, a1l, a2l, keep);
       for (int l = 0; l < 4 && i + l < ns; ++l)
       {
+        if (fast >> l & 1)
+        {
+          if (keep >> l & 1)
+            acc.add (make3 (dPl[0][l], dPl[1][l], dPl[2][l]), a1l[l], a2l[l]);
+          continue;
+        }
         const S m[3] = {ml[0][l], ml[1][l], ml[2][l]};
         const S c[6] = {cl[0][l], cl[1][l], cl[2][l], cl[3][l], cl[4][l], cl[5][l]};
         if (pcaSampleRefitMoments (md, m, c, dP, a1, a2))
