@@ -274,19 +274,25 @@ windowForm (const S (*G)[D], const int *u, const int *v, int count, int u0, int 
   typedef FourLanes<S> Lane;
 #endif
   constexpr int dims = hi - lo, lanes = (dims + 3) / 4;
-  // The points' G on the box, padded with zeros so that the sliding sums need no tests: grid
-  // column p holds box column p - w (pads 0 .. w - 1 and nu + w .. nu + 2w - 1), and window x
-  // (box columns x - w + 1 .. x) sums grid columns x + 1 .. x + w; the same for the rows.
+  // The points' G, four values to a lane, after a zero row (point k in row k + 1); slot names the
+  // row on each cell of the box padded with w empty columns on either side, so that the sliding
+  // sums need no tests: slot column p is box column p - w, and window x (box columns
+  // x - w + 1 .. x) sums slot columns x + 1 .. x + w; the same for the rows. Slots, not the
+  // values, fill the box: far less memory to clear per disc.
   const int pw = nu + 2 * w;
-  Lane grid[kMaxSharedLines * (kMaxSharedLines + 2 * kMaxWindowPx)][lanes];
+  Lane packed[kMaxWindowPoints + 1][lanes];
+  std::uint16_t slot[kMaxSharedLines * (kMaxSharedLines + 2 * kMaxWindowPx)];
   for (int c = 0; c < nv * pw; ++c)
-    for (int l = 0; l < lanes; ++l)
-      grid[c][l] = Lane{};
+    slot[c] = 0;
+  for (int l = 0; l < lanes; ++l)
+    packed[0][l] = Lane{};
   for (int k = 0; k < count; ++k)
   {
-    Lane *cell = grid[(v[k] - v0) * pw + (u[k] - u0 + w)];
+    for (int l = 0; l < lanes; ++l)
+      packed[k + 1][l] = Lane{};
     for (int d = 0; d < dims; ++d)
-      cell[d / 4][d % 4] = G[k][lo + d];
+      packed[k + 1][d / 4][d % 4] = G[k][lo + d];
+    slot[(v[k] - v0) * pw + (u[k] - u0 + w)] = static_cast<std::uint16_t> (k + 1);
   }
   Lane row[kMaxSharedLines + 2 * kMaxWindowPx][lanes]; // row y + w: box row y's sum over window x's columns
   for (int y = 0; y < nv + 2 * w; ++y)
@@ -301,7 +307,7 @@ windowForm (const S (*G)[D], const int *u, const int *v, int count, int u0, int 
   {
     for (int y = 0; y < nv; ++y)
       for (int l = 0; l < lanes; ++l)
-        row[y + w][l] += grid[y * pw + x + w][l] - grid[y * pw + x][l];
+        row[y + w][l] += packed[slot[y * pw + x + w]][l] - packed[slot[y * pw + x]][l];
     Lane H[lanes]; // window (x, y): rows y - w + 1 .. y
     for (int l = 0; l < lanes; ++l)
       H[l] = Lane{};
