@@ -21,6 +21,8 @@
 #include <pcl_texlet/kernels/shared_noise.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -161,16 +163,50 @@ windowDiscGaps (const Neighbourhood<S> &nb, const unsigned char *mask, int gap[k
   if (!nb.disc_offset && nb.count != size)
     return -1;
   int gaps = 0;
-  for (int o = 0, k = 0; o < size; ++o)
+  if (!nb.disc_offset)
   {
-    const bool present = nb.disc_offset ? k < nb.count && nb.disc_offset[k] == o : true;
-    if (!present || !mask[k])
+    // A whole disc: its gaps are its outliers; eight inliers (mask bytes of 1) skipped at once.
+    for (int k = 0; k < size;)
+    {
+      std::uint64_t word = 0;
+      if (k + 8 <= size)
+        std::memcpy (&word, mask + k, sizeof word);
+      if (word == 0x0101010101010101ull)
+      {
+        k += 8;
+        continue;
+      }
+      if (!mask[k])
+      {
+        if (gaps == kMaxWindowDiscGaps)
+          return -1;
+        gap[gaps++] = k;
+      }
+      ++k;
+    }
+    return gaps;
+  }
+  if (size - nb.count > kMaxWindowDiscGaps)
+    return -1;
+  // The offsets before each point's that no point has (no reading), and the points' own where
+  // they are outliers, in the disc's order.
+  int o = 0;
+  for (int k = 0; k <= nb.count; ++k)
+  {
+    const int next = k < nb.count ? nb.disc_offset[k] : size;
+    for (; o < next; ++o)
     {
       if (gaps == kMaxWindowDiscGaps)
         return -1;
       gap[gaps++] = o;
     }
-    k += present ? 1 : 0;
+    if (k < nb.count && !mask[k])
+    {
+      if (gaps == kMaxWindowDiscGaps)
+        return -1;
+      gap[gaps++] = next;
+    }
+    o = next + 1;
   }
   return gaps;
 }
