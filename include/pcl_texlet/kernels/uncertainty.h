@@ -143,8 +143,10 @@ analyticPlaneTermsOfAll (const Neighbourhood<S> &nb, const unsigned char *mask, 
     std::memcpy (&py, nb.y + k, sizeof py);
     std::memcpy (&pz, nb.z + k, sizeof pz);
     std::memcpy (&sd, nb.sigma + k, sizeof sd);
-    for (int i = 0; i < 4; ++i)
-      use[i] = mask[k + i] ? S (1) : S (0);
+    typedef unsigned char Bytes __attribute__ ((vector_size (4)));
+    Bytes in;
+    std::memcpy (&in, mask + k, sizeof in);
+    use = __builtin_convertvector ((in != 0) & 1, Lane); // 1 for an inlier, 0 else
     addAnalyticPlaneTerms (px, py, pz, sd, use, fit, f, shared, lp, ln, lt, ls, G);
     if (out.rows)
       for (int i = 0; i < 4; ++i)
@@ -243,7 +245,7 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
 {
   int n_in = 0;
   for (int k = 0; k < nb.count; ++k)
-    n_in += mask[k] ? 1 : 0;
+    n_in += mask[k] != 0;
   const S d1 = S (n_in) * (fit.lambda[1] - fit.lambda[0]), d2 = S (n_in) * (fit.lambda[2] - fit.lambda[0]);
   AnalyticPlaneFactors<S> f;
   f.inv_d1 = S (1) / d1;
