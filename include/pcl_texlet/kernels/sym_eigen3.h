@@ -211,18 +211,6 @@ struct SmallestEigen3
   Vec3<S> vector;
 };
 
-/** \brief Smallest eigenpair of a packed symmetric 3x3 matrix \a b (00 01 02 11 12 22) that is
-  * nearly diagonal with its smallest eigenvalue near b00, e.g. a perturbed covariance written
-  * in the eigenbasis of the unperturbed one, smallest axis first. The eigenvector is taken as
-  * v = (1, x, y): for a trial eigenvalue l, rows 1 and 2 of (B - l I) v = 0 give (x, y) by a
-  * 2x2 solve, row 0 gives g(l) = b00 + b01 x + b02 y, and Newton's method on l - g(l) = 0
-  * (derivative 1 + x^2 + y^2) converges quadratically from l = b00: a few steps of about 20
-  * flops where a Jacobi sweep costs over a hundred, with no trigonometric function. The other
-  * two eigenvalues follow from the trace and the sum of the principal 2x2 minors.
-  * \return false if 8 steps did not converge, or the matrix is non-finite, or the eigenvalue
-  * found is not below both eigenvalues of the trailing 2x2 block (then, by interlacing, it
-  * need not be the smallest): then use symmetricEigen3Near() or symmetricEigen3().
-  */
 /** \brief One Newton step of smallestEigen3NearFirstAxis() at the trial eigenvalue \a l: the
   * eigenvector's (x, y) for l, the step \a dl, and a11, det, both positive where l is below the
   * trailing 2x2 block's eigenvalues. \a V is the scalar \a S or a SIMD lane of them (four samples'

@@ -784,8 +784,8 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
       normalSamples (seed, texlet, kSharedNoiseBlock + static_cast<std::uint32_t> (b), first, ndraw, words, es[4 * b],
                      es[4 * b + 1], es[4 * b + 2], es[4 * b + 3]);
 #if defined(__GNUC__)
-    // Moments and re-fits of four samples at a time, one a lane; a lane whose fast re-fit fails
-    // alone.
+    // Moments and re-fits of four samples at a time, one a lane; a lane whose Newton steps fail
+    // is re-fitted on its own.
     typedef S Lane __attribute__ ((vector_size (4 * sizeof (S))));
     for (int i = 0; i < ns; i += 4)
     {
