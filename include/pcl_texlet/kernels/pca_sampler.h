@@ -525,6 +525,24 @@ pcaSharedNoiseSampleMoments (const PcaSampleModel<S> &md, const PcaLineSums<S> &
     pcaSampleMoments (md, z, m, c);
 }
 
+/** \brief The end of a sample's re-fit from its normal \a v (in the measured fit's eigenbasis)
+  * and its moments' mean \a m: v turned toward the model's n0, its components \a a1, \a a2 along
+  * t1 and t2, and the centre's step \a dP (world frame). \a V is the scalar \a S or a SIMD lane of
+  * them (pcaSampleRefitLanes()), so both take the same arithmetic.
+  */
+template <typename S, typename V> PCL_TEXLET_HD void
+pcaSampleRefitOf (const PcaSampleModel<S> &md, V v[3], const V m[3], V dP[3], V &a1, V &a2)
+{
+  const auto flip = v[0] * md.n0.x + v[1] * md.n0.y + v[2] * md.n0.z < S (0);
+  for (int k = 0; k < 3; ++k)
+    v[k] = flip ? -v[k] : v[k];
+  a1 = v[0] * md.t1.x + v[1] * md.t1.y + v[2] * md.t1.z;
+  a2 = v[0] * md.t2.x + v[1] * md.t2.y + v[2] * md.t2.z;
+  dP[0] = m[0] * md.axes[0].x + m[1] * md.axes[1].x + m[2] * md.axes[2].x;
+  dP[1] = m[0] * md.axes[0].y + m[1] * md.axes[1].y + m[2] * md.axes[2].y;
+  dP[2] = m[0] * md.axes[0].z + m[1] * md.axes[1].z + m[2] * md.axes[2].z;
+}
+
 /** \brief The re-fit of one sample from its moments (pcaSampleMoments()), as fitPlanePca()
   * does it: no plane for (nearly) collinear points (eigenvalue 1 not above collinearityLimit()
   * times eigenvalue 2).
@@ -548,12 +566,9 @@ pcaSampleRefitMoments (const PcaSampleModel<S> &md, const S m[3], const S c[6], 
   }
   if (!(eig.values[1] > collinearityLimit<S> () * eig.values[2]))
     return false;
-  Vec3<S> v = eig.vector;
-  if (dot (v, md.n0) < S (0))
-    v = -v;
-  a1 = dot (v, md.t1);
-  a2 = dot (v, md.t2);
-  dP = m[0] * md.axes[0] + m[1] * md.axes[1] + m[2] * md.axes[2];
+  S v[3] = {eig.vector.x, eig.vector.y, eig.vector.z}, d[3];
+  pcaSampleRefitOf (md, v, m, d, a1, a2);
+  dP = make3 (d[0], d[1], d[2]);
   return true;
 }
 
@@ -611,14 +626,7 @@ pcaSampleRefitLanes (const PcaSampleModel<S> &md, const Lane m[3], const Lane c[
   Lane l1, l2;
   otherEigenvaluesOf<S> (c, l, LaneSqrt<Lane> (), l1, l2);
   const Mask plane = converged & (l1 > collinearityLimit<S> () * l2);
-  const Mask flip = v[0] * md.n0.x + v[1] * md.n0.y + v[2] * md.n0.z < S (0);
-  for (int k = 0; k < 3; ++k)
-    v[k] = flip ? -v[k] : v[k];
-  a1 = v[0] * md.t1.x + v[1] * md.t1.y + v[2] * md.t1.z;
-  a2 = v[0] * md.t2.x + v[1] * md.t2.y + v[2] * md.t2.z;
-  dP[0] = m[0] * md.axes[0].x + m[1] * md.axes[1].x + m[2] * md.axes[2].x;
-  dP[1] = m[0] * md.axes[0].y + m[1] * md.axes[1].y + m[2] * md.axes[2].y;
-  dP[2] = m[0] * md.axes[0].z + m[1] * md.axes[1].z + m[2] * md.axes[2].z;
+  pcaSampleRefitOf (md, v, m, dP, a1, a2);
   int bits = 0;
   keep = 0;
   for (int i = 0; i < 4; ++i)

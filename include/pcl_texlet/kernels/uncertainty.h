@@ -44,6 +44,16 @@ fillNaN (S *c, int n)
     c[i] = S (NAN);
 }
 
+/** \brief How many of \a nb's points \a mask calls inliers (not 0). */
+template <typename S> PCL_TEXLET_HD int
+inlierCount (const Neighbourhood<S> &nb, const unsigned char *mask)
+{
+  int n = 0;
+  for (int k = 0; k < nb.count; ++k)
+    n += mask[k] != 0;
+  return n;
+}
+
 /** \brief The measured fit's factors in the first-order terms of analyticPlaneCovariance(). */
 template <typename S>
 struct AnalyticPlaneFactors
@@ -243,9 +253,7 @@ analyticPlaneCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
                          const TexletCentrePoint<S> &centre, const Vec3<S> &t1, const Vec3<S> &t2, S cov_p[6],
                          S cov_n[3])
 {
-  int n_in = 0;
-  for (int k = 0; k < nb.count; ++k)
-    n_in += mask[k] != 0;
+  const int n_in = inlierCount (nb, mask);
   const S d1 = S (n_in) * (fit.lambda[1] - fit.lambda[0]), d2 = S (n_in) * (fit.lambda[2] - fit.lambda[0]);
   AnalyticPlaneFactors<S> f;
   f.inv_d1 = S (1) / d1;
@@ -708,9 +716,7 @@ monteCarloPcaCovariance (const Neighbourhood<S> &nb, const unsigned char *mask, 
                          S cov_n[3])
 {
   const PcaModelBasis<S> basis = pcaModelBasis (fit);
-  int n = 0;
-  for (int k = 0; k < nb.count; ++k)
-    n += mask[k] ? 1 : 0;
+  const int n = inlierCount (nb, mask);
   if (n < 3)
   {
     fillNaN (cov_p, 6);
