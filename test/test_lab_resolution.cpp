@@ -4,6 +4,8 @@
  * and the lab predicts both from the rounded Gaussian's moments (not a flat 1/12 mm^2). Ground
  * truth in closed form: a tilted wall, Gaussian noise of a known SD, rounded by this test.
  */
+#include "support/closed_form_wall.h"
+
 #include <pcl_texlet/lab/model_lab.h>
 #include <pcl_texlet/lab/recording_measurement.h>
 #include <pcl_texlet/noise/noise_model.h>
@@ -31,52 +33,14 @@ trueDepthMm (const CameraInfo &camera, int u, int v)
   return 1.0 / (1.0 / 640.0 + 4.0e-5 * x + 2.5e-5 * y);
 }
 
-CameraInfo
-camera ()
-{
-  CameraInfo c;
-  c.width = kWidth;
-  c.height = kHeight;
-  const double f = 571.3 * kWidth / 640.0;
-  const double K[9] = {f, 0, 79.3, 0, f, 60.4, 0, 0, 1};
-  std::copy (K, K + 9, c.K);
-  return c;
-}
-
-/** The model: SD \a sigma_mm everywhere (the paper's polynomial, constant), nothing else. */
-NoiseModel
-constantModel (double sigma_mm)
-{
-  NoiseModel model = NoiseModel::paper ();
-  model.setMinSigmaMm (0.01);
-  const NoiseTerm::Ptr poly = model.find ("polynomial");
-  std::vector<double> p (poly->parameters ().size (), 0.0);
-  p[0] = sigma_mm;
-  poly->setParameters (p);
-  return model;
-}
-
 } // namespace
 
 TEST (ModelLabResolution, PredictsTheWholeMillimetreStaircaseWhereTheNoiseIsBelowAMillimetre)
 {
   const double sigma = 0.15;
-  const CameraInfo cam = camera ();
-  std::mt19937_64 rng (20261202);
-  std::normal_distribution<double> gauss (0.0, sigma);
-  std::vector<DepthFrame> frames (kFrames);
-  for (int t = 0; t < kFrames; ++t)
-  {
-    DepthFrame &f = frames[t];
-    f.name = std::to_string (t);
-    f.width = kWidth;
-    f.height = kHeight;
-    f.depth_mm.resize (static_cast<std::size_t> (kWidth) * kHeight);
-    for (int v = 0; v < kHeight; ++v)
-      for (int u = 0; u < kWidth; ++u)
-        f.depth_mm[static_cast<std::size_t> (v) * kWidth + u] =
-            static_cast<std::uint16_t> (std::lround (trueDepthMm (cam, u, v) + gauss (rng)));
-  }
+  const CameraInfo cam = pcl_texlet_test::closedFormCamera (kWidth, kHeight, 79.3, 60.4);
+  const std::vector<DepthFrame> frames = pcl_texlet_test::closedFormFrames (
+      kWidth, kHeight, kFrames, [&] (int u, int v) { return trueDepthMm (cam, u, v); }, sigma, 20261202);
   // What a flat 1/12 mm^2 (no offset) predicts gets wrong, from the truth: per pixel, the
   // measured SD against sqrt (sigma^2 + 1/12), the measured mean against the true depth.
   double flat_sd2 = 0, flat_bias2 = 0;
@@ -99,7 +63,7 @@ TEST (ModelLabResolution, PredictsTheWholeMillimetreStaircaseWhereTheNoiseIsBelo
 
   lab::ModelLab lab{lab::LabSettings ()};
   lab.addRecording (lab::measureFrames (frames, cam, "wall", "scene: plane\n"));
-  const lab::LabMetrics m = lab.evaluate (constantModel (sigma));
+  const lab::LabMetrics m = lab.evaluate (pcl_texlet_test::constantSdModel (sigma));
   std::cout << "flat 1/12: sd error " << flat_sd << " mm, bias error " << flat_bias << " mm; lab: sd_rmse "
             << m.sd_rmse_mm << " mm, bias_rmse " << m.bias_rmse_mm << " mm\n";
   // The staircase is there to be predicted: the flat prediction is off by a tenth of a mm.

@@ -56,7 +56,11 @@ errorsText (const lab::LabMetrics &m)
 {
   std::ostringstream s;
   if (std::isfinite (m.sd_rmse_mm))
+  {
     s << "sd_rmse " << m.sd_rmse_mm << " mm";
+    if (std::isfinite (m.sd_floor_mm))
+      s << " (" << m.sd_floor_mm << " mm by chance)";
+  }
   else
     s << "sd_rmse not measurable (one frame)";
   s << ", bias_rmse " << m.bias_rmse_mm << " mm (spatial SD " << m.bias_spatial_sd_mm << " mm, model "

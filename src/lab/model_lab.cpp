@@ -6,6 +6,7 @@
 #include "nll_fit.h"
 #include "recorded_resolution.h"
 #include "spatial_correlation_fit.h"
+#include "split_sd.h"
 #include "static_fit.h"
 
 #include <pcl_texlet/kernels/structured_light.h>
@@ -250,8 +251,8 @@ ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels)
       }
   }
   std::vector<float> residual (P), mean_var (P); // measured minus predicted mean; predicted variance of the mean
-  double sd2 = 0, sd_count = 0, b2 = 0, lp = 0, in1 = 0, in2 = 0, count = 0;
-#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : sd2, sd_count, b2, lp, in1, in2, count) num_threads(settings_.threads > 0 ? settings_.threads : omp_get_max_threads ())
+  double sd2 = 0, sd_count = 0, floor2 = 0, floor_count = 0, b2 = 0, lp = 0, in1 = 0, in2 = 0, count = 0;
+#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : sd2, sd_count, floor2, floor_count, b2, lp, in1, in2, count) num_threads(settings_.threads > 0 ? settings_.threads : omp_get_max_threads ())
   for (int k = 0; k < P; ++k)
   {
     const PixelRow &p = d.px[k];
@@ -289,6 +290,7 @@ ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels)
     lp += 0.5 * p.dof * std::log (kTwoPi * var) + p.ss_within / (2 * var);
     lp += 0.5 * std::log (kTwoPi * V / p.n) + p.n * e * e / (2 * V);
     const double sigma = std::sqrt (V);
+    SplitSd split; // the SDs of the pixel's alternate samples
     for (int t : d.frame_list[p.rec])
     {
       const std::uint16_t z = m.at (t, p.index);
@@ -298,11 +300,18 @@ ModelLab::evaluate (const NoiseModel &model, const Data &d, PixelErrors *pixels)
       in1 += dev <= sigma ? 1 : 0;
       in2 += dev <= 2 * sigma ? 1 : 0;
       count += 1;
+      split.add (z - mu);
+    }
+    if (split.splittable ())
+    {
+      floor2 += split.samplingVarianceOfSd ();
+      floor_count += 1;
     }
   }
   out.pixels = P;
   out.samples = d.samples;
   out.sd_rmse_mm = sd_count > 0 ? std::sqrt (sd2 / sd_count) : kNaN;
+  out.sd_floor_mm = floor_count > 0 ? std::sqrt (floor2 / floor_count) : kNaN;
   spatialSd (d, recordings_, residual, mean_var, out.bias_spatial_sd_mm, out.bias_spatial_sd_pred_mm);
   out.bias_rmse_mm = std::sqrt (b2 / P);
   out.nll = (L + lp) / d.samples;

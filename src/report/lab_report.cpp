@@ -50,7 +50,8 @@ nlohmann::json
 metricsJson (const LabMetrics &m)
 {
   // sd_rmse_mm is null on single-frame sets (no temporal SD).
-  nlohmann::json j = {{"sd_rmse_mm", number (m.sd_rmse_mm)}, {"bias_rmse_mm", m.bias_rmse_mm},
+  nlohmann::json j = {{"sd_rmse_mm", number (m.sd_rmse_mm)},   {"sd_floor_mm", number (m.sd_floor_mm)},
+                      {"bias_rmse_mm", m.bias_rmse_mm},
                       {"bias_spatial_sd_mm", number (m.bias_spatial_sd_mm)},
                       {"bias_spatial_sd_pred_mm", number (m.bias_spatial_sd_pred_mm)},
                       {"nll", m.nll},                      {"within_1sigma", m.within_1sigma},
@@ -142,11 +143,16 @@ fmt (double x, int precision = 4)
   return s.str ();
 }
 
-/** sd_rmse_mm for the page: "not measurable" on single frames (NaN). */
+/** sd_rmse_mm for the page with the part of it that chance alone gives (sd_floor_mm); "not
+  * measurable" on single frames (NaN).
+  */
 std::string
-sdText (double sd_rmse_mm)
+sdText (const LabMetrics &m)
 {
-  return std::isfinite (sd_rmse_mm) ? fmt (sd_rmse_mm) : "not measurable (one frame)";
+  if (!std::isfinite (m.sd_rmse_mm))
+    return "not measurable (one frame)";
+  return std::isfinite (m.sd_floor_mm) ? fmt (m.sd_rmse_mm) + " (" + fmt (m.sd_floor_mm) + " by chance)"
+                                       : fmt (m.sd_rmse_mm);
 }
 
 std::string
@@ -727,7 +733,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
   // --- report.html
   std::ostringstream h;
   auto metricsRow = [&] (const std::string &what, const LabMetrics &m) {
-    h << "<tr><td>" << escape (what) << "</td><td>" << sdText (m.sd_rmse_mm) << "</td><td>" << fmt (m.bias_rmse_mm)
+    h << "<tr><td>" << escape (what) << "</td><td>" << sdText (m) << "</td><td>" << fmt (m.bias_rmse_mm)
       << "</td><td>" << fmt (m.nll) << "</td><td>" << fmt (100 * m.within_1sigma, 3) << " %</td><td>"
       << fmt (100 * m.within_2sigma, 3) << " %</td><td>" << fmt (m.texlets.nees_p, 3) << " ("
       << fmt (m.texlets.ratioP (), 3) << " x; median " << fmt (m.texlets.medianRatioP (), 3) << " x)</td><td>"
@@ -793,7 +799,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
        "over frames of P against its own Sigma_P and of N (its deviation from the mean normal in the texlet's "
        "tangent frame) against Sigma_N. Ideal: rank (Sigma_P) (n - 1) / n for P (1 dof on the centre ray) and "
        "2 (n - 1) / n for N with n frames (the mean is estimated); in brackets the ratio to the ideal (1 when calibrated, above 1 when the texlets are "
-       "over-confident) and that of the median NEES to its ideal (robust to a few texlets that jump).</p>\n<table><tr><th>model</th><th>sd_rmse_mm</th>"
+       "over-confident) and that of the median NEES to its ideal (robust to a few texlets that jump).</p>\n<table><tr><th>model</th><th>sd_rmse_mm (its part by chance)</th>"
        "<th>bias_rmse_mm</th><th>nll</th><th>within 1 sigma</th><th>within 2 sigma</th><th>texlet NEES P</th>"
        "<th>texlet NEES N</th><th>texlets</th></tr>\n";
   metricsRow ("start: " + s.start_name, s.start_metrics);
@@ -841,7 +847,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
        "reading is unknown). "
        "Otherwise the choice stays with the held-out likelihood: the texlet NEES sums every effect into two numbers "
        "and cannot tell which is missing.</p>\n<table><tr><th>#</th><th>effect</th><th>gain (nats/sample)"
-    << "</th><th>threshold</th><th>effect size (error where it shows)</th><th>significant</th><th>sd_rmse_mm</th>"
+    << "</th><th>threshold</th><th>effect size (error where it shows)</th><th>significant</th><th>sd_rmse_mm (its part by chance)</th>"
     << "<th>bias_rmse_mm</th><th>nll</th><th>texlet NEES, median / ideal: P, N</th><th>shows in</th>"
     << "<th>physics</th></tr>\n";
   for (std::size_t k = 0; k < s.candidates.size (); ++k)
@@ -861,7 +867,7 @@ writeLabReport (const ModelLab &lab, const LabSession &s, const std::string &fol
         << (c.significant                   ? std::string (" class=\"sig\">yes")
             : c.statistically_significant ? ">no (" + candidateVerdict (c) + ")"
                                           : std::string (">no"))
-        << "</td><td>" << sdText (c.metrics.sd_rmse_mm) << "</td><td>"
+        << "</td><td>" << sdText (c.metrics) << "</td><td>"
         << fmt (c.metrics.bias_rmse_mm) << "</td><td>" << fmt (c.metrics.nll) << "</td><td>"
         << (c.metrics.texlets.samples > 0
                 ? fmt (c.metrics.texlets.medianRatioP (), 3) + ", " + fmt (c.metrics.texlets.medianRatioN (), 3) +

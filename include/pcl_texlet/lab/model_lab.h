@@ -65,6 +65,13 @@ struct LabMetrics
     * least two samples; NaN when none has (single-frame sets: not measurable).
     */
   double sd_rmse_mm = 0;
+  /** \brief The part of sd_rmse_mm that no model removes: the RMS over pixels of how far an SD
+    * measured from the pixel's samples falls from its true SD by chance, estimated from the SDs
+    * of the pixel's alternate samples (a model-free measure; pixels with at least four samples).
+    * Compare sqrt (sd_rmse_mm^2 - sd_floor_mm^2), the model's own SD error. NaN where no pixel
+    * has four samples.
+    */
+  double sd_floor_mm = 0;
   double bias_rmse_mm = 0;  ///< RMS over pixels of measured minus predicted bias (mean - surface)
   /** \brief The spatial SD of the bias residual after removing its smooth part: each pixel's
     * residual (measured minus predicted mean) minus the mean of its neighbours' within 3 px,
