@@ -20,22 +20,24 @@ namespace pcl_texlet_test
 {
 
 /** \brief One wall recording of the generator for each of \a poses, \a frames frames of \a width
-  * x 3/4 \a width pixels, with \a effects (each an --effect argument; none: a clean wall) hidden,
+  * x \a height pixels (0: 3/4 \a width), with \a effects (each an --effect argument; none: a clean wall) hidden,
   * measured.
   * Wall k has seed \a seed + 37 k; one sensor made them all: its own draws (the distortion map)
   * come from \a seed.
   */
 inline std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr>
 generatedWalls (const std::vector<WallPose> &poses, const std::vector<std::string> &effects, int seed, int frames,
-                int width)
+                int width, int height = 0)
 {
+  if (height <= 0)
+    height = width * 3 / 4;
   TempDir dir;
   std::vector<pcl::texlet::lab::RecordingMeasurement::ConstPtr> out;
   for (std::size_t k = 0; k < poses.size (); ++k)
   {
     const WallPose &p = poses[k];
     const std::string folder = (dir.path () / ("wall_" + std::to_string (k))).string ();
-    std::string args = folder + " --width " + std::to_string (width) + " --height " + std::to_string (width * 3 / 4) +
+    std::string args = folder + " --width " + std::to_string (width) + " --height " + std::to_string (height) +
                              " --frames " + std::to_string (frames) + " --seed " + std::to_string (seed + 37 * static_cast<int> (k)) +
                              " --distance " + std::to_string (p.distance_m) + " --tilt-x " + std::to_string (p.tilt_x_deg) +
                              " --tilt-y " + std::to_string (p.tilt_y_deg) + " --projectors " + std::to_string (p.projectors) +
