@@ -13,8 +13,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdint>
-#include <random>
 #include <vector>
 
 using namespace pcl::texlet;

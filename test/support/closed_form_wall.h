@@ -6,8 +6,8 @@
 #pragma once
 
 #include <pcl_texlet/camera/camera_info.h>
-#include <pcl_texlet/noise/noise_model.h>
 #include <pcl_texlet/camera/depth_frame.h>
+#include <pcl_texlet/noise/noise_model.h>
 
 #include <algorithm>
 #include <cmath>

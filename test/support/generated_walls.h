@@ -20,8 +20,8 @@ namespace pcl_texlet_test
 {
 
 /** \brief One wall recording of the generator for each of \a poses, \a frames frames of \a width
-  * x \a height pixels (0: 3/4 \a width), with \a effects (each an --effect argument; none: a clean wall) hidden,
-  * measured.
+  * x \a height pixels (0: 3/4 \a width), with \a effects (each an --effect argument; none: a
+  * clean wall) hidden, measured.
   * Wall k has seed \a seed + 37 k; one sensor made them all: its own draws (the distortion map)
   * come from \a seed.
   */
