@@ -126,9 +126,9 @@ TEST (ModelLabIndependentProof, FindsADriftThatScalesDepth)
 }
 // Quantisation and Herrera's distortion at once (320 px wide, where the noise is a fair part of a
 // step): the distortion moves each pixel's disparity, and so the sub-step phase the rounding
-// sees, by up to several steps (docs/model_lab.md section 7). 40 frames of 120 rows rather than
-// 20 of 240: a pixel's SD from 20 frames of two depth levels is so uncertain that chance alone
-// was 2.1 mm of the 3.1 mm left (sd_floor_mm), and an SD error is measured per pixel.
+// sees, by up to several steps (docs/model_lab.md section 7). Many frames of few rows: an SD error
+// is measured per pixel, and a pixel's SD from a few frames of two depth levels is mostly chance
+// (sd_floor_mm; the figures in the same section).
 TEST (ModelLabIndependentProof, FindsQuantisationAndDistortionTogether)
 {
   const std::vector<std::string> hidden{"disparity_quantization", "depth_distortion"};

@@ -49,7 +49,7 @@ number (double x)
 nlohmann::json
 metricsJson (const LabMetrics &m)
 {
-  // sd_rmse_mm is null on single-frame sets (no temporal SD).
+  // sd_rmse_mm and sd_floor_mm are null on single-frame sets (no temporal SD).
   nlohmann::json j = {{"sd_rmse_mm", number (m.sd_rmse_mm)},   {"sd_floor_mm", number (m.sd_floor_mm)},
                       {"bias_rmse_mm", m.bias_rmse_mm},
                       {"bias_spatial_sd_mm", number (m.bias_spatial_sd_mm)},
